@@ -1,0 +1,21 @@
+#pragma once
+// Sub-commands of the `codesign` binary. Each apps/cmd_*.cpp (or bench_*.cpp) adds its own
+// sub-command to the parent it is given and, when the user selects it, stores in `run` the
+// work to do. main.cpp parses the command line, then calls `run` and returns its exit code.
+// Errors in user input are thrown as io::InputError; main prints them and exits with 2.
+#include <functional>
+
+#include <CLI/CLI.hpp>
+
+namespace codesign::app {
+
+using Runner = std::function<int()>;
+
+void add_mesh_command(CLI::App& root, Runner& run);       // cmd_mesh.cpp
+void add_sim_command(CLI::App& root, Runner& run);        // cmd_sim.cpp
+void add_train_gym_command(CLI::App& root, Runner& run);  // cmd_train_gym.cpp
+// `codesign bench <what>`: main.cpp creates the `bench` parent.
+void add_bench_fem_command(CLI::App& bench, Runner& run);  // bench_fem.cpp
+void add_bench_ppo_command(CLI::App& bench, Runner& run);  // bench_ppo.cpp
+
+}  // namespace codesign::app

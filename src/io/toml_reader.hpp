@@ -1,0 +1,78 @@
+#pragma once
+// Typed, validated reading of TOML tables into config structs.
+//
+// Every getter takes the default and the allowed range; a missing key yields the default, a
+// present key of the wrong type or out of range throws InputError naming file, key and range.
+// finish() throws for any key of the table that nobody read (a typo must not pass silently).
+//
+//   io::TableReader root = io::TableReader::from_file("run.toml");
+//   io::TableReader mat = root.table("material");
+//   cfg.youngs_modulus_kpa = mat.number("youngs_modulus_kPa", 500.0, 1.0, 1e5);
+//   mat.finish();
+//   root.finish();
+#include <cstdint>
+#include <initializer_list>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "io/errors.hpp"
+
+namespace toml {
+inline namespace v3 {
+class table;
+}
+}  // namespace toml
+
+namespace codesign::io {
+
+class TableReader {
+ public:
+  // Parses a TOML file; a missing file or a syntax error throws InputError with the position.
+  static TableReader from_file(const std::string& path);
+  // Parses TOML text; `file_label` stands in for the file name in messages (used by tests).
+  static TableReader from_string(std::string_view text, std::string file_label);
+
+  // Optional scalars: default when absent. Ranges are inclusive.
+  double number(std::string_view key, double def, double lo, double hi);
+  std::int64_t integer(std::string_view key, std::int64_t def, std::int64_t lo, std::int64_t hi);
+  bool boolean(std::string_view key, bool def);
+  // `allowed` empty: any string.
+  std::string string(std::string_view key, std::string def,
+                     std::initializer_list<std::string_view> allowed = {});
+  // Arrays of numbers / integers, every element in [lo, hi], length in [min_len, max_len].
+  std::vector<double> numbers(std::string_view key, std::vector<double> def, double lo, double hi,
+                              std::size_t min_len, std::size_t max_len);
+  std::vector<std::int64_t> integers(std::string_view key, std::vector<std::int64_t> def,
+                                     std::int64_t lo, std::int64_t hi, std::size_t min_len,
+                                     std::size_t max_len);
+
+  // Required scalars: absent key throws.
+  double required_number(std::string_view key, double lo, double hi);
+  std::string required_string(std::string_view key);
+
+  bool has(std::string_view key) const;
+  // A sub-table; absent gives an empty table (so every getter returns its default).
+  TableReader table(std::string_view key);
+  // Throws InputError if a key of this table was never read, listing the keys that are allowed.
+  void finish() const;
+
+  const std::string& file() const { return state_->file; }
+  // Dotted path of this table ("" for the root), e.g. "fem.material".
+  const std::string& path() const { return path_; }
+  // "file: key" prefix used in messages, e.g. "run.toml: material.youngs_modulus_kPa".
+  std::string where(std::string_view key) const;
+  [[noreturn]] void fail(std::string_view key, std::string_view problem) const;
+
+ private:
+  struct State;
+  TableReader(std::shared_ptr<State> state, const toml::table* table, std::string path);
+  const void* lookup(std::string_view key);
+  std::shared_ptr<State> state_;
+  const toml::table* table_;  // nullptr: absent table
+  std::string path_;
+  std::shared_ptr<std::vector<std::string>> read_keys_;
+};
+
+}  // namespace codesign::io
