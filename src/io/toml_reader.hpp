@@ -58,7 +58,7 @@ class TableReader {
   // Throws InputError if a key of this table was never read, listing the keys that are allowed.
   void finish() const;
 
-  const std::string& file() const { return state_->file; }
+  const std::string& file() const;
   // Dotted path of this table ("" for the root), e.g. "fem.material".
   const std::string& path() const { return path_; }
   // "file: key" prefix used in messages, e.g. "run.toml: material.youngs_modulus_kPa".

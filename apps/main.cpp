@@ -1,0 +1,64 @@
+// Entry point of `codesign`: builds the command line from the sub-commands in apps/,
+// runs the selected one, and turns user-input errors into one message and exit status 2.
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "io/errors.hpp"
+
+namespace {
+
+// `codesign --config run.toml` is the main job. Until the co-design loop exists, the main job
+// is the simulation scenario of the config, i.e. the same as `codesign sim --config run.toml`.
+std::vector<std::string> with_default_command(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  const bool starts_with_option = !args.empty() && args.front().rfind("--", 0) == 0;
+  bool has_config = false;
+  for (const auto& a : args) has_config = has_config || a == "--config" || a.rfind("--config=", 0) == 0;
+  const bool wants_help = args.size() == 1 && (args[0] == "--help" || args[0] == "--version");
+  if (starts_with_option && has_config && !wants_help) args.insert(args.begin(), "sim");
+  return args;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace codesign;
+  CLI::App root{"codesign: co-design of a soft pneumatic whisker and its feedback controller"};
+  root.set_version_flag("--version", std::string("codesign 0.1.0"));
+  root.require_subcommand(1);
+  root.footer("Main job: codesign --config run.toml  (see README.md)");
+
+  app::Runner run;
+  app::add_mesh_command(root, run);
+  app::add_sim_command(root, run);
+  app::add_train_gym_command(root, run);
+  CLI::App* bench = root.add_subcommand("bench", "Speed benchmarks that print figures and ratios");
+  bench->require_subcommand(1);
+  app::add_bench_fem_command(*bench, run);
+  app::add_bench_ppo_command(*bench, run);
+
+  std::vector<std::string> args = with_default_command(argc, argv);
+  std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 parses a reversed vector
+  try {
+    root.parse(reversed);
+  } catch (const CLI::ParseError& e) {
+    const int code = root.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    if (!run) {
+      std::fprintf(stderr, "codesign: error: no command selected\n");
+      return 2;
+    }
+    return run();
+  } catch (const io::InputError& e) {
+    std::fprintf(stderr, "codesign: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "codesign: internal error: %s\n", e.what());
+    return 1;
+  }
+}
