@@ -1,0 +1,61 @@
+#pragma once
+// Adam with PyTorch's semantics (torch.optim.Adam, no weight decay, no amsgrad):
+//   m_t = b1 m_{t-1} + (1 - b1) g          v_t = b2 v_{t-1} + (1 - b2) g^2
+//   p  -= lr / (1 - b1^t) * m_t / ( sqrt(v_t) / sqrt(1 - b2^t) + eps )
+// Note where eps sits: it is added AFTER the bias correction of sqrt(v) (PyTorch), not to
+// sqrt(v_hat) inside a single fraction of the original paper; the two differ in the first steps.
+// SB3's PPO passes eps = 1e-5 (its policy optimizer_kwargs default), the default here.
+//
+// The optimiser works on a list of parameter blocks (pointer + gradient pointer + size). The
+// moments of block i are created on the first step(); every later call must pass the same block
+// sizes in the same order. All blocks share one step counter, like the parameters of one
+// torch.optim.Adam.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace codesign::rl {
+
+struct AdamConfig {
+  double beta1 = 0.9;
+  double beta2 = 0.999;
+  double eps = 1e-5;
+};
+
+template <class S>
+struct AdamBlock {
+  S* param = nullptr;
+  const S* grad = nullptr;
+  Eigen::Index size = 0;
+};
+
+template <class S>
+class AdamT {
+ public:
+  explicit AdamT(const AdamConfig& config = {}) : config_(config) {}
+
+  // One update of every block with learning rate lr. Throws std::invalid_argument if the block
+  // sizes differ from the first call.
+  void step(std::span<const AdamBlock<S>> blocks, double lr);
+
+  std::int64_t step_count() const { return t_; }
+  const AdamConfig& config() const { return config_; }
+  // First and second moments of block i (empty before the first step).
+  const Eigen::Matrix<S, Eigen::Dynamic, 1>& first_moment(std::size_t i) const { return m_[i]; }
+  const Eigen::Matrix<S, Eigen::Dynamic, 1>& second_moment(std::size_t i) const { return v_[i]; }
+
+ private:
+  AdamConfig config_;
+  std::int64_t t_ = 0;
+  std::vector<Eigen::Matrix<S, Eigen::Dynamic, 1>> m_;
+  std::vector<Eigen::Matrix<S, Eigen::Dynamic, 1>> v_;
+};
+
+using Adam = AdamT<float>;
+
+extern template class AdamT<float>;
+extern template class AdamT<double>;
+
+}  // namespace codesign::rl

@@ -1,0 +1,140 @@
+#pragma once
+// One PPO update (the optimisation phase of an iteration), following Stable-Baselines3's
+// PPO.train(). Each SB3 semantic followed is listed in docs/rl.md; in short:
+//   * n_epochs passes over the buffer; each pass draws a fresh random permutation and cuts it
+//     into minibatches of batch_size; the last, partial minibatch is used too.
+//   * advantages are normalised PER MINIBATCH: (A - mean) / (std + 1e-8), std unbiased (N-1);
+//     skipped for a minibatch of one sample (SB3: `len(advantages) > 1`).
+//   * ratio = exp(log_pi - log_pi_old); pg_loss = -mean(min(A r, A clip(r, 1-eps, 1+eps))).
+//   * value_loss = mean((returns - V)^2) (no value clipping, clip_range_vf = None).
+//   * entropy_loss = -mean(entropy);  loss = pg + ent_coef * entropy_loss + vf_coef * value.
+//   * approx_kl = mean((r - 1) - log r), computed before the step of that minibatch; if
+//     target_kl is set and approx_kl > 1.5 target_kl, the minibatch is NOT applied and training
+//     stops (all remaining epochs skipped).
+//   * gradients of actor, critic and log_std are clipped together to global L2 norm
+//     max_grad_norm (torch.nn.utils.clip_grad_norm_: factor max / (norm + 1e-6) when < 1),
+//     then one Adam step with the current learning rate.
+// The entropy coefficient may decay linearly (paper: 0.01 from 220k to 800k steps, then 0).
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "rl/actor_critic.hpp"
+#include "rl/adam.hpp"
+#include "rl/rng.hpp"
+#include "rl/rollout_buffer.hpp"
+
+namespace codesign::rl {
+
+// Defaults are SB3's PPO defaults (MlpPolicy net_arch [64, 64]).
+struct PpoConfig {
+  double learning_rate = 3e-4;
+  int n_steps = 2048;  // per environment, per rollout
+  int batch_size = 64;
+  int n_epochs = 10;
+  double gamma = 0.99;
+  double gae_lambda = 0.95;
+  double clip_range = 0.2;
+  // clip_range_vf: None in SB3 by default; not implemented (value loss is never clipped).
+  double ent_coef = 0.0;
+  // Linear entropy decay: ent_coef until ent_decay_start timesteps, then linearly to 0 at
+  // ent_decay_end, 0 afterwards. Disabled (constant ent_coef) unless both are set.
+  std::optional<std::int64_t> ent_decay_start;
+  std::optional<std::int64_t> ent_decay_end;
+  double vf_coef = 0.5;
+  double max_grad_norm = 0.5;
+  std::optional<double> target_kl;  // None: no early stop
+  bool normalize_advantage = true;
+  std::vector<int> actor_hidden = {64, 64};
+  std::vector<int> critic_hidden = {64, 64};
+  double log_std_init = 0.0;
+  double adam_eps = 1e-5;
+};
+
+// The paper's settings (SPEC.md section 4): lr 0.003, n_steps 50, batch 256, 10 epochs, gamma
+// 0.99, lambda 0.95, clip 0.2, ent 0.01 decaying to 0 between 220k and 800k steps, vf 0.6, grad
+// clip 0.5, target_kl 0.02, [512, 512, 512] actor and critic.
+PpoConfig paper_ppo_config();
+
+// Entropy coefficient at a given number of collected timesteps.
+double entropy_coef_at(const PpoConfig& config, std::int64_t num_timesteps);
+
+// Throws std::invalid_argument naming the field if a value is out of range.
+void validate(const PpoConfig& config);
+
+// Averages over the minibatches processed (as SB3 logs them), except explained_variance which is
+// over the whole buffer: 1 - Var(returns - values) / Var(returns) (NaN if Var(returns) = 0).
+struct PpoStats {
+  double pg_loss = 0.0;
+  double value_loss = 0.0;
+  double entropy_loss = 0.0;  // -mean entropy, as SB3 logs "train/entropy_loss"
+  double approx_kl = 0.0;
+  double clip_fraction = 0.0;
+  double loss = 0.0;  // loss of the last minibatch (SB3 logs that one)
+  double explained_variance = 0.0;
+  double ent_coef = 0.0;  // coefficient used in this update
+  double grad_norm = 0.0;  // mean pre-clip global gradient norm
+  int epochs_done = 0;     // epochs started (the one that early-stopped counts, as SB3's n_updates)
+  int minibatches_applied = 0;  // Adam steps taken
+  bool early_stopped = false;
+};
+
+// Runs the whole optimisation phase on a full buffer whose advantages/returns are computed.
+PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& buffer,
+                    const PpoConfig& config, std::int64_t num_timesteps, Rng& rng);
+
+// ---- The minibatch loss, exposed for gradient checks (templated so tests run in double) ----
+
+template <class S>
+struct PpoMinibatchT {
+  using Mat = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+  using RowVec = Eigen::Matrix<S, 1, Eigen::Dynamic>;
+  Mat obs;              // obs_dim x B
+  Mat actions;          // act_dim x B (unclipped, as stored)
+  RowVec old_log_prob;  // 1 x B
+  RowVec advantages;    // 1 x B (raw; normalised inside if requested)
+  RowVec returns;       // 1 x B
+};
+
+struct PpoLossCoefficients {
+  double clip_range = 0.2;
+  double ent_coef = 0.0;
+  double vf_coef = 0.5;
+  bool normalize_advantage = true;
+};
+
+template <class S>
+struct PpoLossT {
+  S loss = 0, pg_loss = 0, value_loss = 0, entropy_loss = 0;
+  S approx_kl = 0;      // mean((r - 1) - log r), no gradient
+  S clip_fraction = 0;  // mean(|r - 1| > clip_range)
+};
+
+// Scratch reused across minibatches (no allocation in steady state).
+template <class S>
+struct PpoWorkspaceT {
+  typename MlpT<S>::Cache actor_cache, critic_cache;
+  typename MlpT<S>::Mat d_mean, d_value;
+};
+
+// Loss of one minibatch and, if grad is non-null, its gradient w.r.t. all parameters (overwrites
+// *grad, which must have the sizes of model.zero_grad()).
+template <class S>
+PpoLossT<S> ppo_minibatch_loss(const ActorCriticT<S>& model, const PpoMinibatchT<S>& batch,
+                               const PpoLossCoefficients& coefs, ActorCriticGradT<S>* grad,
+                               PpoWorkspaceT<S>& workspace);
+
+extern template PpoLossT<float> ppo_minibatch_loss<float>(const ActorCriticT<float>&,
+                                                          const PpoMinibatchT<float>&,
+                                                          const PpoLossCoefficients&,
+                                                          ActorCriticGradT<float>*,
+                                                          PpoWorkspaceT<float>&);
+extern template PpoLossT<double> ppo_minibatch_loss<double>(const ActorCriticT<double>&,
+                                                            const PpoMinibatchT<double>&,
+                                                            const PpoLossCoefficients&,
+                                                            ActorCriticGradT<double>*,
+                                                            PpoWorkspaceT<double>&);
+
+}  // namespace codesign::rl
