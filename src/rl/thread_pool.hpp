@@ -1,0 +1,48 @@
+#pragma once
+// A fixed pool of worker threads running one blocking parallel_for at a time.
+//
+// parallel_for(n, fn) calls fn(i) once for every i in [0, n), spread over the workers and the
+// calling thread, and returns when all calls are done. With one thread (or n == 1) everything runs
+// inline on the caller. The first exception thrown by fn is rethrown in the caller after the
+// remaining calls have finished. Which thread runs which index is not fixed, so fn(i) must only
+// touch data owned by index i for results to be independent of the thread count.
+#include <condition_variable>
+#include <cstddef>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace codesign::rl {
+
+class ThreadPool {
+ public:
+  // n_threads counts the calling thread: n_threads - 1 workers are started. 0 means
+  // std::thread::hardware_concurrency().
+  explicit ThreadPool(std::size_t n_threads);
+  ~ThreadPool();
+  ThreadPool(const ThreadPool&) = delete;
+  ThreadPool& operator=(const ThreadPool&) = delete;
+
+  std::size_t size() const { return workers_.size() + 1; }
+  void parallel_for(std::size_t n, const std::function<void(std::size_t)>& fn);
+
+ private:
+  void worker_loop();
+  void run_chunk();
+
+  std::vector<std::thread> workers_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::condition_variable done_;
+  const std::function<void(std::size_t)>* job_ = nullptr;
+  std::size_t job_size_ = 0;
+  std::size_t next_index_ = 0;
+  std::size_t busy_ = 0;        // workers currently inside the job
+  std::size_t generation_ = 0;  // bumped per job so each worker joins it once
+  std::exception_ptr error_;
+  bool stop_ = false;
+};
+
+}  // namespace codesign::rl
