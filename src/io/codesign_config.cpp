@@ -1,0 +1,60 @@
+#include "io/codesign_config.hpp"
+
+#include <numbers>
+
+namespace codesign::io {
+
+codesign::TaskConfig read_task_config(TableReader& root) {
+  TableReader t = root.table("task");
+  codesign::TaskConfig c;
+  c.episode_steps = static_cast<int>(t.integer("episode_steps", c.episode_steps, 1, 100000));
+  c.action_hold_steps =
+      static_cast<int>(t.integer("action_hold_steps", c.action_hold_steps, 1, c.episode_steps));
+  if (c.episode_steps % c.action_hold_steps != 0) {
+    t.fail("action_hold_steps", "must divide task.episode_steps (" +
+                                    std::to_string(c.episode_steps) + ")");
+  }
+  c.theta_max_rad = t.number("theta_max_rad", c.theta_max_rad, 1e-6, std::numbers::pi / 2);
+  c.target_force_mN = t.number("target_force_mN", c.target_force_mN, 1e-3, 1e4);
+  c.tolerance_fraction = t.number("tolerance_fraction", c.tolerance_fraction, 1e-3, 1.0);
+  c.kappa = t.number("kappa", c.kappa, 0.1, 10.0);
+  c.smooth_penalty = t.number("smooth_penalty", c.smooth_penalty, 0.0, 10.0);
+  c.flip_penalty = t.number("flip_penalty", c.flip_penalty, 0.0, 10.0);
+  c.theta_limit_rad = t.number("theta_limit_rad", c.theta_limit_rad, 1e-3, std::numbers::pi);
+  t.finish();
+  return c;
+}
+
+codesign::CodesignConfig read_codesign_config(TableReader& root) {
+  TableReader t = root.table("codesign");
+  codesign::CodesignConfig c;
+  c.total_timesteps = t.integer("total_timesteps", c.total_timesteps, 1, 1'000'000'000);
+  c.designs_per_update = static_cast<int>(t.integer("designs_per_update", c.designs_per_update, 1, 1024));
+  c.design_batch = static_cast<int>(t.integer("design_batch", c.design_batch, 1, 1024));
+  c.exploration_end = t.integer("exploration_end", c.exploration_end, 0, c.total_timesteps);
+  c.exploitation_start =
+      t.integer("exploitation_start", c.exploitation_start, c.exploration_end, c.total_timesteps);
+  c.alpha = t.number("alpha", c.alpha, 0.0, 1.0);
+  c.phi = t.number("phi", c.phi, 0.0, 1.0);
+  c.beta_start = t.number("beta_start", c.beta_start, 0.0, 1e3);
+  c.beta_end = t.number("beta_end", c.beta_end, 0.0, 1e3);
+  c.reward_buffer = static_cast<int>(t.integer("reward_buffer", c.reward_buffer, 2, 100000));
+  c.pressure_max_kPa = t.number("pressure_max_kPa", c.pressure_max_kPa, 0.0, 100.0);
+  c.latent_mu0 = t.number("latent_mu0", c.latent_mu0, -10.0, 10.0);
+  c.latent_sigma0 = t.number("latent_sigma0", c.latent_sigma0, 1e-6, 10.0);
+  const std::string b = t.string("baseline", "none", {"none", "no_feedback", "single_design"});
+  c.baseline = b == "no_feedback"     ? codesign::Baseline::NoFeedback
+               : b == "single_design" ? codesign::Baseline::SingleDesign
+                                      : codesign::Baseline::None;
+  c.single_design_index =
+      static_cast<int>(t.integer("single_design_index", c.single_design_index, 0, 109));
+  c.single_design_p1_kPa = t.number("single_design_p1_kPa", c.single_design_p1_kPa, 0.0, c.pressure_max_kPa);
+  c.single_design_p2_kPa = t.number("single_design_p2_kPa", c.single_design_p2_kPa, 0.0, c.pressure_max_kPa);
+  c.eval_decisions = static_cast<int>(t.integer("eval_decisions", c.eval_decisions, 1, 100000));
+  c.checkpoint_every = t.integer("checkpoint_every", c.checkpoint_every, 1, 1'000'000'000);
+  c.seed = static_cast<std::uint64_t>(t.integer("seed", 1, 0, std::int64_t{1} << 62));
+  t.finish();
+  return c;
+}
+
+}  // namespace codesign::io
