@@ -1,0 +1,45 @@
+#pragma once
+// Fibres as chains of stiff springs between points embedded barycentrically in tetrahedra.
+//
+// A point p = Σ_a w_a x_{tet[a]} (w: barycentric weights, Σ w = 1) moves with its host tet.
+// A spring between embedded points p and q has rest length ℓ0 = |p − q| at rest and stiffness k:
+//   tension-only: f = −k (ℓ − ℓ0) n on p (n = (p − q)/ℓ) when ℓ > ℓ0, nothing when slack,
+// i.e. an inextensible thread that can buckle (goes slack) under compression. The force on p is
+// spread to the host nodes with weights w (and the opposite force on q's nodes).
+// Tangent stiffness (when taut): k n nᵀ + k (1 − ℓ0/ℓ)(I − n nᵀ), mapped through the weights.
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fem/mesh.hpp"
+
+namespace codesign::fem {
+
+struct EmbeddedPoint {
+  int tet = -1;
+  Eigen::Vector4d weights = Eigen::Vector4d::Zero();  // barycentric weights of the tet's nodes
+};
+
+struct FibreSpring {
+  EmbeddedPoint a, b;
+  double rest_length_mm = 0.0;
+  double stiffness_uN_per_mm = 0.0;
+};
+
+// Where a point sits in the mesh: the tet whose smallest barycentric weight is largest (so a
+// point on a shared face, or just outside the surface by round-off, still embeds). Returns
+// tet = -1 if the point lies farther outside every tet than `tolerance_mm`.
+EmbeddedPoint embed_point(const TetMesh& mesh, const Eigen::Vector3d& p, double tolerance_mm = 0.05);
+
+// Springs along the polylines (each polyline is one fibre, consecutive points joined).
+// Every spring gets k = axial_stiffness_uN / ℓ0, i.e. `axial_stiffness_uN` is the fibre's
+// EA (force per unit strain). Throws std::invalid_argument when a point cannot be embedded.
+std::vector<FibreSpring> make_fibre_springs(const TetMesh& mesh,
+                                            const std::vector<std::vector<Eigen::Vector3d>>& polylines,
+                                            double axial_stiffness_uN);
+
+// Position of an embedded point given all node positions (3N vector, node-major).
+Eigen::Vector3d embedded_position(const TetMesh& mesh, const EmbeddedPoint& p, const Eigen::VectorXd& x);
+
+}  // namespace codesign::fem

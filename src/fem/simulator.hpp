@@ -1,0 +1,117 @@
+#pragma once
+// Time stepping of the whisker scene: co-rotational FEM + gravity + cavity pressure + fibres,
+// clamped base on a rotary stage, frictionless unilateral contact with a moving plate.
+//
+// One step (linearised implicit Euler, one linear solve, as SOFA's EulerImplicit):
+//   (M + dt C + dt² K(x)) v⁺ = M v + dt f(x) + dt Jᵀλ,   x⁺ = x + dt v⁺,
+// f = elastic + fibre + gravity + pressure (follower: from the current geometry), C = a M + b K.
+// Base nodes are Dirichlet: their v⁺ brings them exactly onto R_y(α + θ⁺) X.
+// Contact (Lagrange multipliers λ ≥ 0, one per plate-contact candidate node, vertical): with the
+// free velocity v_f (λ = 0) and D = dt² J A⁻¹ Jᵀ, solve the LCP
+//   g = z_f⁺ − z_plate⁺ + D λ ≥ 0,  λ ≥ 0,  gᵀλ = 0
+// exactly by an active-set (principal pivoting) method; F = Σλ.
+//
+// Methods:
+//  * Exact: assemble A = M + dt C + dt² K(x) on the free DOFs and refactorise it with CHOLMOD
+//    every step; A⁻¹Jᵀ columns by extra solves.
+//  * Fast: A⁻¹ is replaced by a stored CHOLMOD factor of A_ref (the system matrix of the rest
+//    state, or of the state at the last refactorisation), rotated by the change of base angle
+//    since then (exact for a rigid rotation: K = G K_ref Gᵀ). The free velocity comes from
+//    preconditioned Richardson/defect-correction iterations warm-started at the previous
+//    velocity, r = b − A(x) v with the true co-rotated A(x) applied matrix-free; A_ref⁻¹Jᵀ for
+//    the contact candidates are precomputed. Equilibria (v = 0) are the same as Exact's; only
+//    transients differ (see bench fem for the measured difference).
+// Failures (non-finite state, inverted element, factorisation failure, LCP failure) are returned
+// as a status; the simulator is then unusable until reset().
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fem/model.hpp"
+#include "fem/scene.hpp"
+#include "fem/sensors.hpp"
+
+namespace codesign::fem {
+
+enum class StepMethod { Exact, Fast };
+
+struct SolverConfig {
+  StepMethod method = StepMethod::Fast;
+  double dt_s = 0.01;                 // in (0, 0.1]
+  double static_dt_s = 1.0;           // pseudo time step of static_step()/settle()
+  int fast_iterations = 1;            // defect-correction iterations per fast step, in [1, 50]
+  // Fast: refactorise A_ref at the current state when the relative residual ‖r‖/‖b‖ after the
+  // iterations exceeds this (checked every `fast_check_every` steps; costs one extra mat-vec).
+  double fast_refactor_residual = 0.05;
+  int fast_check_every = 10;          // 0 = never check (never refactorise)
+  double contact_margin_mm = 1.0;     // candidates closer than this (after the free step) enter the LCP
+};
+
+enum class StepStatus { Ok, NonFinite, InvertedElement, SolverFailure, ContactFailure };
+const char* to_string(StepStatus s);
+
+struct StepResult {
+  StepStatus status = StepStatus::Ok;
+  std::string reason;                 // empty when ok
+  int iterations = 0;                 // linear iterations (fast) or 1 (exact)
+  bool refactorised = false;
+  bool ok() const { return status == StepStatus::Ok; }
+};
+
+class Simulator {
+ public:
+  Simulator(std::shared_ptr<const Model> model, const SceneConfig& scene, const SolverConfig& solver);
+  ~Simulator();
+  Simulator(Simulator&&) noexcept;
+  Simulator& operator=(Simulator&&) noexcept;
+
+  // Undeformed placement at θ = 0, v = 0, t = 0, pressures 0, plate at z_touch (+ U sin(phase)
+  // motion only starts with step()).
+  void reset();
+  // Quasi-static loading: `settle_steps` static steps raising the plate from z_touch to z0
+  // (with the current pressures and gravity), then zero velocity. t stays 0.
+  StepResult settle();
+  // One static step: the same linearised solve with dt = static_dt_s, time and plate frozen,
+  // velocity zeroed afterwards (a damped Newton iteration towards equilibrium).
+  StepResult static_step();
+  // One dynamic step of dt: advances t, the plate and the base angle.
+  StepResult step();
+
+  // Cavity pressures [kPa] (chamber 0, chamber 1); values for missing chambers are ignored.
+  void set_pressures_kPa(double p0, double p1);
+  // θ moves linearly from its current value to `theta_rad` over the next n_substeps steps
+  // (n_substeps ≥ 1), then stays.
+  void set_base_angle_target(double theta_rad, int n_substeps);
+  // Sets θ at once (used for static sweeps; the base nodes jump on the next step/static_step).
+  void set_base_angle(double theta_rad);
+  // Plate: override the mean height (world z) — default comes from the scene's preload.
+  void set_plate_mean_z(double z0_mm);
+
+  Sensors sensors() const;
+  double time() const;
+  double theta() const;
+  double plate_z() const;             // current plate height
+  double plate_touch_z() const;       // z_touch (scene.hpp)
+  const Eigen::VectorXd& positions() const;   // 3N world
+  const Eigen::VectorXd& velocities() const;  // 3N world
+  // Contact multipliers of the last step per contact node [µN] (node index, λ).
+  const std::vector<std::pair<int, double>>& contact_forces() const;
+  // Force the clamp exerts on the body [µN], world, from the static balance at the current
+  // state: −Σ_{base nodes}(f_elastic + f_fibre + f_gravity + f_pressure). At rest:
+  // base_reaction + contact (0,0,F) + gravity (0,0,−m g) + net pressure force = 0.
+  Eigen::Vector3d base_reaction() const;
+  // Net external pressure force on the body [µN] (zero for a closed cavity in any state).
+  Eigen::Vector3d pressure_force() const;
+  const Model& model() const;
+  const SceneConfig& scene() const;
+  const SolverConfig& solver() const;
+  int factorisations() const;         // CHOLMOD numeric factorisations so far
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace codesign::fem
