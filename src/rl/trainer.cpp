@@ -1,0 +1,192 @@
+#include "rl/trainer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+namespace codesign::rl {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+AdamConfig adam_config(const PpoConfig& ppo) {
+  AdamConfig a;
+  a.eps = ppo.adam_eps;
+  return a;
+}
+
+// Validates before any member is built from the config.
+const TrainerConfig& checked(const TrainerConfig& c) {
+  validate(c.ppo);
+  if (c.n_envs < 1) throw std::invalid_argument("TrainerConfig: n_envs must be >= 1");
+  if (c.total_timesteps < 1) throw std::invalid_argument("TrainerConfig: total_timesteps must be >= 1");
+  if (c.stats_window < 1) throw std::invalid_argument("TrainerConfig: stats_window must be >= 1");
+  return c;
+}
+
+}  // namespace
+
+Eigen::MatrixXd clip_actions(const Eigen::MatrixXd& actions, const BoxSpec& bounds) {
+  // Scalar loop: Eigen's AVX-512 cwiseMax/cwiseMin trip GCC 12's -Wmaybe-uninitialized.
+  Eigen::MatrixXd out(actions.rows(), actions.cols());
+  for (Eigen::Index j = 0; j < actions.cols(); ++j)
+    for (Eigen::Index i = 0; i < actions.rows(); ++i)
+      out(i, j) = std::clamp(actions(i, j), bounds.low(i), bounds.high(i));
+  return out;
+}
+
+Trainer::Trainer(const EnvFactory& factory, const TrainerConfig& config)
+    : config_(checked(config)),
+      venv_(factory, static_cast<std::size_t>(config.n_envs), config.seed, config.n_threads),
+      model_(static_cast<int>(venv_.spec().observation.dim()),
+             static_cast<int>(venv_.spec().action.dim()), config.ppo.actor_hidden,
+             config.ppo.critic_hidden, static_cast<float>(config.ppo.log_std_init)),
+      optimizer_(adam_config(config.ppo)),
+      buffer_(config.ppo.n_steps, config.n_envs, static_cast<int>(venv_.spec().observation.dim()),
+              static_cast<int>(venv_.spec().action.dim())),
+      start_(std::chrono::steady_clock::now()) {
+  Rng master(config_.seed);
+  Rng init_rng = master.split();
+  act_rng_ = master.split();
+  update_rng_ = master.split();
+  model_.init_orthogonal(init_rng);
+
+  last_obs_ = venv_.reset();
+  last_episode_starts_ = Eigen::RowVectorXf::Ones(config_.n_envs);  // SB3: all ones at start
+  last_dones_ = Eigen::RowVectorXf::Zero(config_.n_envs);
+  running_return_.assign(static_cast<std::size_t>(config_.n_envs), 0.0);
+  running_length_.assign(static_cast<std::size_t>(config_.n_envs), 0);
+}
+
+void Trainer::collect_rollouts() {
+  const auto t0 = std::chrono::steady_clock::now();
+  const double gamma = config_.ppo.gamma;
+  const auto n = static_cast<Eigen::Index>(config_.n_envs);
+  buffer_.reset();
+  Eigen::RowVectorXf rewards(n);
+  Eigen::RowVectorXf dones(n);
+  for (int step = 0; step < config_.ppo.n_steps; ++step) {
+    const Eigen::MatrixXf obs = last_obs_.cast<float>();
+    ActorCritic::ActResult act = model_.act(obs, act_rng_);
+    const VecStepResult& r =
+        venv_.step(clip_actions(act.actions.cast<double>(), venv_.spec().action));
+    num_timesteps_ += n;
+
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto iu = static_cast<std::size_t>(i);
+      double reward = r.rewards(i);
+      running_return_[iu] += reward;
+      running_length_[iu] += 1;
+      dones(i) = r.done(iu) ? 1.0f : 0.0f;
+      if (!r.done(iu)) {
+        rewards(i) = static_cast<float>(reward);
+        continue;
+      }
+      recent_.push_back({running_return_[iu], running_length_[iu], num_timesteps_});
+      if (recent_.size() > config_.stats_window) recent_.pop_front();
+      ++num_episodes_;
+      running_return_[iu] = 0.0;
+      running_length_[iu] = 0;
+      if (r.truncated[iu] && !r.terminated[iu] && r.terminal_obs[iu]) {
+        const Eigen::MatrixXf terminal = r.terminal_obs[iu]->cast<float>();
+        reward += gamma * static_cast<double>(model_.value(terminal)(0));
+      }
+      rewards(i) = static_cast<float>(reward);
+    }
+    buffer_.add(obs, act.actions, rewards, last_episode_starts_, act.values, act.log_probs);
+    last_obs_ = r.obs;
+    last_episode_starts_ = dones;
+  }
+  last_dones_ = last_episode_starts_;
+  const Eigen::MatrixXf last_obs = last_obs_.cast<float>();
+  buffer_.compute_returns_and_advantage(model_.value(last_obs), last_dones_, gamma,
+                                        config_.ppo.gae_lambda);
+  last_collect_s_ = seconds_since(t0);
+}
+
+PpoStats Trainer::update() {
+  return ppo_update(model_, optimizer_, buffer_, config_.ppo, num_timesteps_, update_rng_);
+}
+
+TrainProgress Trainer::iterate() {
+  collect_rollouts();
+  const auto t0 = std::chrono::steady_clock::now();
+  TrainProgress p;
+  p.stats = update();
+  p.update_s = seconds_since(t0);
+  p.collect_s = last_collect_s_;
+  p.iteration = ++iteration_;
+  p.timesteps = num_timesteps_;
+  p.total_timesteps = config_.total_timesteps;
+  p.elapsed_s = seconds_since(start_);
+  p.steps_per_s = p.elapsed_s > 0.0 ? static_cast<double>(num_timesteps_) / p.elapsed_s : 0.0;
+  p.episodes = num_episodes_;
+  p.mean_return = mean_recent_return();
+  if (!recent_.empty()) {
+    double len = 0.0;
+    for (const EpisodeRecord& e : recent_) len += e.length;
+    p.mean_length = len / static_cast<double>(recent_.size());
+  }
+  return p;
+}
+
+void Trainer::learn(const std::function<void(const TrainProgress&)>& on_progress) {
+  while (!finished()) {
+    const TrainProgress p = iterate();
+    if (on_progress) on_progress(p);
+  }
+}
+
+std::optional<double> Trainer::mean_recent_return() const {
+  if (recent_.empty()) return std::nullopt;
+  double sum = 0.0;
+  for (const EpisodeRecord& e : recent_) sum += e.episode_return;
+  return sum / static_cast<double>(recent_.size());
+}
+
+EvalResult evaluate(const DeterministicPolicy& policy, const EnvFactory& factory, int episodes,
+                    std::uint64_t seed, int max_steps) {
+  if (episodes < 1) throw std::invalid_argument("evaluate: episodes must be >= 1");
+  std::unique_ptr<Env> env = factory(0);
+  const BoxSpec& bounds = env->spec().action;
+  EvalResult out;
+  for (int k = 0; k < episodes; ++k) {
+    Eigen::VectorXd obs = env->reset(seed + static_cast<std::uint64_t>(k));
+    double ret = 0.0;
+    int len = 0;
+    for (;;) {
+      const Eigen::MatrixXd a = clip_actions(policy(obs), bounds);
+      StepResult r = env->step(a.col(0));
+      ret += r.reward;
+      ++len;
+      if (r.done()) break;
+      if (len >= max_steps)
+        throw std::runtime_error("evaluate: episode exceeded max_steps without ending");
+      obs = std::move(r.obs);
+    }
+    out.returns.push_back(ret);
+    out.lengths.push_back(len);
+  }
+  const double n = static_cast<double>(episodes);
+  out.mean_return = std::accumulate(out.returns.begin(), out.returns.end(), 0.0) / n;
+  double ss = 0.0;
+  for (double r : out.returns) ss += (r - out.mean_return) * (r - out.mean_return);
+  out.std_return = std::sqrt(ss / n);
+  return out;
+}
+
+EvalResult evaluate(const ActorCritic& model, const EnvFactory& factory, int episodes,
+                    std::uint64_t seed, int max_steps) {
+  return evaluate(
+      [&model](const Eigen::VectorXd& obs) -> Eigen::VectorXd {
+        const Eigen::VectorXf o = obs.cast<float>();
+        return model.deterministic_action(o).cast<double>();
+      },
+      factory, episodes, seed, max_steps);
+}
+
+}  // namespace codesign::rl

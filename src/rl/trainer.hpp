@@ -1,0 +1,148 @@
+#pragma once
+// The PPO training loop (SB3's OnPolicyAlgorithm.learn / collect_rollouts + PPO.train), on top of
+// the learner (actor_critic, rollout_buffer, ppo) and the environments (env, vec_env).
+//
+// One iteration = collect_rollouts() + update():
+//   collect: for n_steps: (actions, values, log_probs) = model.act(obs) (float32; actions are
+//            UNCLIPPED samples); the environments step with the actions clipped to the action
+//            bounds; where an episode was truncated and not terminated,
+//            reward += gamma * V(terminal_obs) (timeout bootstrapping, V from the current model);
+//            buffer.add(obs, unclipped actions, rewards, episode_starts, values, log_probs);
+//            episode_starts = done flags of this step.
+//            Then GAE with last_values = V(obs after the last step) and dones of the last step.
+//   update:  ppo_update (PPO.train), entropy coefficient from the timesteps collected so far.
+// Iterations repeat while num_timesteps < total_timesteps, so the total is rounded up to whole
+// rollouts (SB3 does the same): 100k steps at 4 x 1024 per rollout is 25 rollouts, 102400 steps.
+//
+// Episode statistics follow SB3's Monitor: the return is the sum of the environment's rewards
+// (before bootstrapping), kept for the last `stats_window` episodes.
+//
+// Random streams (all from TrainerConfig::seed, none shared with the environments):
+//   Rng(seed).split() x3 -> model init, action sampling, minibatch shuffling.
+//   Environment i is seeded with seed + i (VecEnv).
+// Results depend only on the seed, not on n_threads.
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "rl/actor_critic.hpp"
+#include "rl/adam.hpp"
+#include "rl/env.hpp"
+#include "rl/ppo.hpp"
+#include "rl/rng.hpp"
+#include "rl/rollout_buffer.hpp"
+#include "rl/vec_env.hpp"
+
+namespace codesign::rl {
+
+struct TrainerConfig {
+  PpoConfig ppo;
+  int n_envs = 4;
+  std::size_t n_threads = 1;  // threads stepping the environments (0 = all cores)
+  std::uint64_t seed = 0;
+  std::int64_t total_timesteps = 100'000;
+  std::size_t stats_window = 100;  // episodes in the running mean return (SB3 stats_window_size)
+};
+
+struct EpisodeRecord {
+  double episode_return = 0.0;
+  int length = 0;
+  std::int64_t end_timestep = 0;  // num_timesteps when the episode ended
+};
+
+struct TrainProgress {
+  int iteration = 0;
+  std::int64_t timesteps = 0;
+  std::int64_t total_timesteps = 0;
+  double elapsed_s = 0.0;        // since the trainer was constructed
+  double steps_per_s = 0.0;      // timesteps / elapsed_s (SB3's fps)
+  double collect_s = 0.0;        // this iteration's rollout collection
+  double update_s = 0.0;         // this iteration's PPO update
+  std::int64_t episodes = 0;     // finished episodes so far
+  std::optional<double> mean_return;  // over the last stats_window episodes (none yet: nullopt)
+  std::optional<double> mean_length;
+  PpoStats stats;
+};
+
+class Trainer {
+ public:
+  Trainer(const EnvFactory& factory, const TrainerConfig& config);
+
+  // Collects one rollout into buffer() (advantages and returns computed).
+  void collect_rollouts();
+  // PPO update on the collected buffer.
+  PpoStats update();
+  // collect_rollouts() + update(); returns the progress after it.
+  TrainProgress iterate();
+  // Iterates until num_timesteps() >= total_timesteps, calling on_progress after each iteration.
+  void learn(const std::function<void(const TrainProgress&)>& on_progress = {});
+  bool finished() const { return num_timesteps_ >= config_.total_timesteps; }
+
+  const TrainerConfig& config() const { return config_; }
+  const EnvSpec& spec() const { return venv_.spec(); }
+  ActorCritic& model() { return model_; }
+  const ActorCritic& model() const { return model_; }
+  const RolloutBuffer& buffer() const { return buffer_; }
+  std::int64_t num_timesteps() const { return num_timesteps_; }
+  std::int64_t num_episodes() const { return num_episodes_; }
+  // The last stats_window finished episodes, oldest first.
+  const std::deque<EpisodeRecord>& recent_episodes() const { return recent_; }
+  std::optional<double> mean_recent_return() const;
+
+ private:
+  TrainerConfig config_;
+  VecEnv venv_;
+  ActorCritic model_;
+  Adam optimizer_;
+  RolloutBuffer buffer_;
+  Rng act_rng_;
+  Rng update_rng_;
+  Eigen::MatrixXd last_obs_;                // obs_dim x n_envs
+  Eigen::RowVectorXf last_episode_starts_;  // 1 x n_envs
+  Eigen::RowVectorXf last_dones_;           // 1 x n_envs
+  std::vector<double> running_return_;
+  std::vector<int> running_length_;
+  std::deque<EpisodeRecord> recent_;
+  std::int64_t num_timesteps_ = 0;
+  std::int64_t num_episodes_ = 0;
+  int iteration_ = 0;
+  double last_collect_s_ = 0.0;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// Clips each action column to [low, high] (SB3 clips before env.step; the buffer keeps the
+// unclipped sample).
+Eigen::MatrixXd clip_actions(const Eigen::MatrixXd& actions, const BoxSpec& bounds);
+
+// ---- Deterministic evaluation ----
+
+struct EvalResult {
+  std::vector<double> returns;
+  std::vector<int> lengths;
+  double mean_return = 0.0;
+  double std_return = 0.0;  // population std (numpy's np.std, as SB3's evaluate_policy)
+};
+
+// Offset added to the training seed to seed evaluation episodes, so evaluation never replays a
+// training environment's start states (those use seed + 0 .. seed + n_envs - 1).
+inline constexpr std::uint64_t kEvalSeedOffset = 1'000'000'007ULL;
+
+using DeterministicPolicy = std::function<Eigen::VectorXd(const Eigen::VectorXd& obs)>;
+
+// Runs `episodes` episodes on one environment from `factory`; episode k starts with
+// reset(seed + k) and runs until terminated or truncated (max_steps guards against an
+// environment without a time limit: exceeding it throws std::runtime_error). Actions are the
+// policy's output clipped to the action bounds.
+EvalResult evaluate(const DeterministicPolicy& policy, const EnvFactory& factory, int episodes,
+                    std::uint64_t seed, int max_steps = 1'000'000);
+// The actor-critic's mean action as the policy.
+EvalResult evaluate(const ActorCritic& model, const EnvFactory& factory, int episodes,
+                    std::uint64_t seed, int max_steps = 1'000'000);
+
+}  // namespace codesign::rl
