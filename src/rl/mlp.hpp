@@ -77,8 +77,9 @@ class MlpT {
   void backward(Cache& cache, const Eigen::Ref<const Mat>& d_out, Eigen::Ref<Vec> grad,
                 Mat* d_input = nullptr) const;
 
-  // Multiply-add count (x2 = flops) of forward and of backward (without the input gradient) for
-  // a batch of B samples; used by the benchmark.
+  // Floating-point operations of the GEMMs of forward and of backward (2 per multiply-add;
+  // backward without the input gradient of the first layer) for a batch of B samples; used by
+  // the benchmark.
   double forward_flops(Eigen::Index batch) const;
   double backward_flops(Eigen::Index batch) const;
 

@@ -81,6 +81,11 @@ struct PpoStats {
   bool early_stopped = false;
 };
 
+// The optimiser PPO expects: Adam with eps = config.adam_eps (betas 0.9, 0.999).
+inline Adam make_adam(const PpoConfig& config) {
+  return Adam(AdamConfig{.beta1 = 0.9, .beta2 = 0.999, .eps = config.adam_eps});
+}
+
 // Runs the whole optimisation phase on a full buffer whose advantages/returns are computed.
 PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& buffer,
                     const PpoConfig& config, std::int64_t num_timesteps, Rng& rng);

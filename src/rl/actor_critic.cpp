@@ -1,0 +1,85 @@
+// GCC 12 reports false -Wmaybe-uninitialized inside its own AVX-512 intrinsics when Eigen
+// vectorises with -march=native (GCC bug 105593); silence it for this file only.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#include "rl/actor_critic.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "rl/gaussian.hpp"
+
+namespace codesign::rl {
+
+namespace {
+std::vector<int> layer_sizes(int in, const std::vector<int>& hidden, int out) {
+  std::vector<int> sizes{in};
+  sizes.insert(sizes.end(), hidden.begin(), hidden.end());
+  sizes.push_back(out);
+  return sizes;
+}
+}  // namespace
+
+template <class S>
+ActorCriticT<S>::ActorCriticT(int obs_dim, int act_dim, const std::vector<int>& actor_hidden,
+                              const std::vector<int>& critic_hidden, S log_std_init)
+    : actor_(layer_sizes(obs_dim, actor_hidden, act_dim)),
+      critic_(layer_sizes(obs_dim, critic_hidden, 1)),
+      log_std_(Vec::Constant(act_dim, log_std_init)),
+      log_std_init_(log_std_init) {}
+
+template <class S>
+void ActorCriticT<S>::init_orthogonal(Rng& rng) {
+  actor_.init_orthogonal(S(0.01), rng);
+  critic_.init_orthogonal(S(1), rng);
+  log_std_.setConstant(log_std_init_);
+}
+
+template <class S>
+typename ActorCriticT<S>::ActResult ActorCriticT<S>::act(const Eigen::Ref<const Mat>& obs,
+                                                         Rng& rng) const {
+  ActResult r;
+  const Mat mean = actor_.predict(obs);
+  r.actions = gaussian_sample<S>(mean, log_std_, rng);
+  r.log_probs = gaussian_log_prob<S>(mean, log_std_, r.actions);
+  r.values = critic_.predict(obs).row(0);
+  return r;
+}
+
+template <class S>
+typename ActorCriticT<S>::RowVec ActorCriticT<S>::value(const Eigen::Ref<const Mat>& obs) const {
+  return critic_.predict(obs).row(0);
+}
+
+template <class S>
+typename ActorCriticT<S>::Vec ActorCriticT<S>::deterministic_action(
+    const Eigen::Ref<const Vec>& obs) const {
+  return actor_.predict(obs).col(0);
+}
+
+template <class S>
+typename ActorCriticT<S>::Mat ActorCriticT<S>::deterministic_actions(
+    const Eigen::Ref<const Mat>& obs) const {
+  return actor_.predict(obs);
+}
+
+template <class S>
+typename ActorCriticT<S>::Grad ActorCriticT<S>::zero_grad() const {
+  return Grad{Vec::Zero(actor_.num_params()), Vec::Zero(critic_.num_params()),
+              Vec::Zero(log_std_.size())};
+}
+
+template <class S>
+std::vector<AdamBlock<S>> ActorCriticT<S>::adam_blocks(const Grad& grad) {
+  if (grad.actor.size() != actor_.num_params() || grad.critic.size() != critic_.num_params() ||
+      grad.log_std.size() != log_std_.size())
+    throw std::invalid_argument("ActorCritic::adam_blocks: gradient sizes do not match");
+  return {{actor_.params().data(), grad.actor.data(), grad.actor.size()},
+          {critic_.params().data(), grad.critic.data(), grad.critic.size()},
+          {log_std_.data(), grad.log_std.data(), grad.log_std.size()}};
+}
+
+template class ActorCriticT<float>;
+template class ActorCriticT<double>;
+
+}  // namespace codesign::rl

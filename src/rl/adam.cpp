@@ -1,0 +1,45 @@
+// GCC 12 reports false -Wmaybe-uninitialized inside its own AVX-512 intrinsics when Eigen
+// vectorises with -march=native (GCC bug 105593); silence it for this file only.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#include "rl/adam.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace codesign::rl {
+
+template <class S>
+void AdamT<S>::step(std::span<const AdamBlock<S>> blocks, double lr) {
+  using Vec = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+  if (m_.empty()) {
+    for (const auto& b : blocks) {
+      m_.push_back(Vec::Zero(b.size));
+      v_.push_back(Vec::Zero(b.size));
+    }
+  } else {
+    bool same = blocks.size() == m_.size();
+    for (std::size_t i = 0; same && i < blocks.size(); ++i) same = blocks[i].size == m_[i].size();
+    if (!same) throw std::invalid_argument("Adam::step: parameter blocks changed between steps");
+  }
+  ++t_;
+  const double b1 = config_.beta1, b2 = config_.beta2;
+  const double bias_c1 = 1.0 - std::pow(b1, static_cast<double>(t_));
+  const double bias_c2 = 1.0 - std::pow(b2, static_cast<double>(t_));
+  const S step_size = static_cast<S>(lr / bias_c1);
+  const S inv_sqrt_bc2 = static_cast<S>(1.0 / std::sqrt(bias_c2));
+  const S eps = static_cast<S>(config_.eps);
+  const S sb1 = static_cast<S>(b1), sb2 = static_cast<S>(b2);
+  for (std::size_t i = 0; i < blocks.size(); ++i) {
+    Eigen::Map<Vec> p(blocks[i].param, blocks[i].size);
+    Eigen::Map<const Vec> g(blocks[i].grad, blocks[i].size);
+    m_[i] = sb1 * m_[i] + (S(1) - sb1) * g;
+    v_[i] = sb2 * v_[i] + (S(1) - sb2) * g.cwiseAbs2();
+    p.array() -= step_size * m_[i].array() / (v_[i].array().sqrt() * inv_sqrt_bc2 + eps);
+  }
+}
+
+template class AdamT<float>;
+template class AdamT<double>;
+
+}  // namespace codesign::rl

@@ -1,0 +1,150 @@
+// GCC 12 reports false -Wmaybe-uninitialized inside its own AVX-512 intrinsics when Eigen
+// vectorises with -march=native (GCC bug 105593); silence it for this file only.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#include "rl/mlp.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/QR>
+
+namespace codesign::rl {
+
+template <class S>
+MlpT<S>::MlpT(std::vector<int> sizes) : sizes_(std::move(sizes)) {
+  if (sizes_.size() < 2) throw std::invalid_argument("MLP needs at least input and output sizes");
+  Eigen::Index n = 0;
+  for (std::size_t l = 0; l < sizes_.size(); ++l) {
+    if (sizes_[l] <= 0)
+      throw std::invalid_argument("MLP layer size must be > 0, got " + std::to_string(sizes_[l]));
+    if (l == 0) continue;
+    offsets_.push_back(n);
+    n += static_cast<Eigen::Index>(sizes_[l]) * sizes_[l - 1] + sizes_[l];
+  }
+  params_ = Vec::Zero(n);
+}
+
+template <class S>
+Eigen::Index MlpT<S>::bias_offset(int l) const {
+  return offsets_[l - 1] + static_cast<Eigen::Index>(sizes_[l]) * sizes_[l - 1];
+}
+
+template <class S>
+typename MlpT<S>::MatMap MlpT<S>::weight(int l) {
+  return MatMap(params_.data() + offsets_[l - 1], sizes_[l], sizes_[l - 1]);
+}
+template <class S>
+typename MlpT<S>::ConstMatMap MlpT<S>::weight(int l) const {
+  return ConstMatMap(params_.data() + offsets_[l - 1], sizes_[l], sizes_[l - 1]);
+}
+template <class S>
+typename MlpT<S>::VecMap MlpT<S>::bias(int l) {
+  return VecMap(params_.data() + bias_offset(l), sizes_[l]);
+}
+template <class S>
+typename MlpT<S>::ConstVecMap MlpT<S>::bias(int l) const {
+  return ConstVecMap(params_.data() + bias_offset(l), sizes_[l]);
+}
+
+namespace {
+
+// torch.nn.init.orthogonal_ for a (rows x cols) matrix, computed in double.
+Eigen::MatrixXd orthogonal(Eigen::Index rows, Eigen::Index cols, double gain, Rng& rng) {
+  const bool transpose = rows < cols;
+  const Eigen::Index m = transpose ? cols : rows;  // tall: m >= n
+  const Eigen::Index n = transpose ? rows : cols;
+  Eigen::MatrixXd g(m, n);
+  for (Eigen::Index j = 0; j < n; ++j)
+    for (Eigen::Index i = 0; i < m; ++i) g(i, j) = rng.normal();
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(g);
+  Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(m, n);
+  const auto r_diag = qr.matrixQR().diagonal();
+  for (Eigen::Index j = 0; j < n; ++j)
+    if (r_diag(j) < 0) q.col(j) = -q.col(j);
+  if (transpose) q.transposeInPlace();
+  return gain * q;
+}
+
+}  // namespace
+
+template <class S>
+void MlpT<S>::init_orthogonal(S output_gain, Rng& rng) {
+  for (int l = 1; l <= num_layers(); ++l) {
+    const double gain = l == num_layers() ? static_cast<double>(output_gain) : std::sqrt(2.0);
+    weight(l) = orthogonal(sizes_[l], sizes_[l - 1], gain, rng).template cast<S>();
+    bias(l).setZero();
+  }
+}
+
+template <class S>
+const typename MlpT<S>::Mat& MlpT<S>::forward(const Eigen::Ref<const Mat>& x, Cache& cache) const {
+  if (x.rows() != input_dim())
+    throw std::invalid_argument("MLP input has " + std::to_string(x.rows()) + " rows, expected " +
+                                std::to_string(input_dim()));
+  const int L = num_layers();
+  cache.a.resize(static_cast<std::size_t>(L) + 1);
+  cache.a[0] = x;
+  for (int l = 1; l <= L; ++l) {
+    Mat& out = cache.a[l];
+    out.resize(sizes_[l], x.cols());
+    out.noalias() = weight(l) * cache.a[l - 1];
+    out.colwise() += bias(l);
+    if (l < L) out.array() = out.array().tanh();
+  }
+  return cache.a.back();
+}
+
+template <class S>
+typename MlpT<S>::Mat MlpT<S>::predict(const Eigen::Ref<const Mat>& x) const {
+  Cache cache;
+  return forward(x, cache);
+}
+
+template <class S>
+void MlpT<S>::backward(Cache& cache, const Eigen::Ref<const Mat>& d_out, Eigen::Ref<Vec> grad,
+                       Mat* d_input) const {
+  const int L = num_layers();
+  if (static_cast<int>(cache.a.size()) != L + 1 || d_out.rows() != output_dim() ||
+      d_out.cols() != cache.a.back().cols() || grad.size() != num_params())
+    throw std::invalid_argument("MLP backward: sizes do not match the cached forward pass");
+  cache.delta = d_out;
+  for (int l = L; l >= 1; --l) {
+    const Mat& below = cache.a[l - 1];
+    MatMap g_w(grad.data() + offsets_[l - 1], sizes_[l], sizes_[l - 1]);
+    VecMap g_b(grad.data() + bias_offset(l), sizes_[l]);
+    g_w.noalias() = cache.delta * below.transpose();
+    g_b.noalias() = cache.delta.rowwise().sum();
+    if (l > 1) {
+      cache.delta_prev.noalias() = weight(l).transpose() * cache.delta;
+      // below = tanh(z): d tanh / dz = 1 - tanh^2
+      cache.delta.resize(below.rows(), below.cols());
+      cache.delta.array() = cache.delta_prev.array() * (S(1) - below.array().square());
+    } else if (d_input != nullptr) {
+      d_input->noalias() = weight(1).transpose() * cache.delta;
+    }
+  }
+}
+
+template <class S>
+double MlpT<S>::forward_flops(Eigen::Index batch) const {
+  double macs = 0;
+  for (int l = 1; l <= num_layers(); ++l) macs += double(sizes_[l]) * sizes_[l - 1];
+  return 2.0 * macs * static_cast<double>(batch);
+}
+
+template <class S>
+double MlpT<S>::backward_flops(Eigen::Index batch) const {
+  double macs = 0;
+  for (int l = 1; l <= num_layers(); ++l) {
+    const double w = double(sizes_[l]) * sizes_[l - 1];
+    macs += l > 1 ? 2 * w : w;  // weight gradient, plus input gradient above the first layer
+  }
+  return 2.0 * macs * static_cast<double>(batch);
+}
+
+template class MlpT<float>;
+template class MlpT<double>;
+
+}  // namespace codesign::rl

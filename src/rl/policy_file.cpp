@@ -1,0 +1,228 @@
+// GCC 12 reports false -Wmaybe-uninitialized inside its own AVX-512 intrinsics when Eigen
+// vectorises with -march=native (GCC bug 105593); silence it for this file only.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#include "rl/policy_file.hpp"
+
+#include <bit>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "io/errors.hpp"
+
+namespace codesign::rl {
+
+static_assert(std::endian::native == std::endian::little,
+              "policy files are little-endian; add byte swapping for this platform");
+
+namespace {
+
+constexpr char kMagic[8] = {'C', 'D', 'S', 'P', 'O', 'L', 'C', 'Y'};
+constexpr std::uint32_t kMaxDim = 1u << 20;
+constexpr std::uint32_t kMaxLayers = 64;
+
+class Writer {
+ public:
+  template <class T>
+  void put(T v) {
+    const auto* p = reinterpret_cast<const unsigned char*>(&v);
+    bytes.insert(bytes.end(), p, p + sizeof(T));
+  }
+  template <class T>
+  void put_array(const T* data, std::size_t n) {
+    const auto* p = reinterpret_cast<const unsigned char*>(data);
+    bytes.insert(bytes.end(), p, p + n * sizeof(T));
+  }
+  std::vector<unsigned char> bytes;
+};
+
+class Reader {
+ public:
+  Reader(const std::vector<unsigned char>& b, std::size_t end, const std::string& file)
+      : bytes_(b), end_(end), file_(file) {}
+  template <class T>
+  T get(const char* what) {
+    T v;
+    get_array(&v, 1, what);
+    return v;
+  }
+  template <class T>
+  void get_array(T* out, std::size_t n, const char* what) {
+    if (n > (end_ - pos_) / sizeof(T))
+      throw io::InputError("policy file " + file_ + ": truncated while reading " + what);
+    std::memcpy(out, bytes_.data() + pos_, n * sizeof(T));
+    pos_ += n * sizeof(T);
+  }
+  std::size_t pos() const { return pos_; }
+  std::size_t end() const { return end_; }
+
+ private:
+  const std::vector<unsigned char>& bytes_;
+  std::size_t pos_ = 0;
+  std::size_t end_;
+  const std::string& file_;
+};
+
+void put_sizes(Writer& w, const std::vector<int>& sizes) {
+  // hidden sizes only: strip input and output
+  w.put<std::uint32_t>(static_cast<std::uint32_t>(sizes.size() - 2));
+  for (std::size_t i = 1; i + 1 < sizes.size(); ++i) w.put<std::uint32_t>(std::uint32_t(sizes[i]));
+}
+
+std::vector<int> get_hidden(Reader& r, const std::string& file, const char* which) {
+  const auto n = r.get<std::uint32_t>("layer count");
+  if (n > kMaxLayers)
+    throw io::InputError("policy file " + file + ": " + which + " has " + std::to_string(n) +
+                         " hidden layers (at most " + std::to_string(kMaxLayers) + " allowed)");
+  std::vector<int> hidden;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const auto h = r.get<std::uint32_t>("layer size");
+    if (h == 0 || h > kMaxDim)
+      throw io::InputError("policy file " + file + ": " + which + " layer size " +
+                           std::to_string(h) + " out of range [1, " + std::to_string(kMaxDim) +
+                           "]");
+    hidden.push_back(static_cast<int>(h));
+  }
+  return hidden;
+}
+
+}  // namespace
+
+std::uint64_t fnv1a64(std::span<const unsigned char> bytes) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (unsigned char c : bytes) {
+    h ^= c;
+    h *= 0x100000001b3ULL;
+  }
+  return h;
+}
+
+Eigen::VectorXd ObsNormalization::apply(const Eigen::Ref<const Eigen::VectorXd>& obs) const {
+  return ((obs - mean).array() / (var.array() + epsilon).sqrt()).cwiseMax(-clip).cwiseMin(clip);
+}
+
+void save_policy(const std::filesystem::path& path, const ActorCritic& model,
+                 const std::optional<ObsNormalization>& obs_norm) {
+  Writer w;
+  w.put_array(kMagic, sizeof kMagic);
+  w.put<std::uint32_t>(kPolicyFileVersion);
+  w.put<std::uint32_t>(static_cast<std::uint32_t>(model.obs_dim()));
+  w.put<std::uint32_t>(static_cast<std::uint32_t>(model.act_dim()));
+  put_sizes(w, model.actor().sizes());
+  put_sizes(w, model.critic().sizes());
+  w.put_array(model.actor().params().data(), static_cast<std::size_t>(model.actor().num_params()));
+  w.put_array(model.critic().params().data(),
+              static_cast<std::size_t>(model.critic().num_params()));
+  w.put_array(model.log_std().data(), static_cast<std::size_t>(model.log_std().size()));
+  w.put<std::uint32_t>(obs_norm ? 1u : 0u);
+  if (obs_norm) {
+    if (obs_norm->mean.size() != model.obs_dim() || obs_norm->var.size() != model.obs_dim())
+      throw std::invalid_argument("save_policy: observation normalisation has the wrong size");
+    w.put_array(obs_norm->mean.data(), static_cast<std::size_t>(obs_norm->mean.size()));
+    w.put_array(obs_norm->var.data(), static_cast<std::size_t>(obs_norm->var.size()));
+    w.put<double>(obs_norm->epsilon);
+    w.put<double>(obs_norm->clip);
+  }
+  w.put<std::uint64_t>(fnv1a64(w.bytes));
+
+  std::filesystem::path tmp = path;
+  tmp += ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(w.bytes.data()),
+              static_cast<std::streamsize>(w.bytes.size()));
+    out.flush();
+    if (!out)
+      throw io::InputError("policy file " + path.string() + ": cannot write " + tmp.string());
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec)
+    throw io::InputError("policy file " + path.string() + ": cannot rename " + tmp.string() +
+                         " into place: " + ec.message());
+}
+
+PolicyFileContents load_policy(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw io::InputError("policy file " + file + ": cannot open");
+  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
+                                         std::istreambuf_iterator<char>());
+  constexpr std::size_t kHeader = sizeof kMagic + sizeof(std::uint32_t);
+  if (bytes.size() < kHeader + sizeof(std::uint64_t))
+    throw io::InputError("policy file " + file + ": too short (" + std::to_string(bytes.size()) +
+                         " bytes) to be a policy file");
+  if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    throw io::InputError("policy file " + file + ": bad magic (not a codesign policy file)");
+  std::uint32_t version;
+  std::memcpy(&version, bytes.data() + sizeof kMagic, sizeof version);
+  if (version != kPolicyFileVersion)
+    throw io::InputError("policy file " + file + ": unsupported version " +
+                         std::to_string(version) + " (this build reads version " +
+                         std::to_string(kPolicyFileVersion) + ")");
+  const std::size_t body_end = bytes.size() - sizeof(std::uint64_t);
+  std::uint64_t stored;
+  std::memcpy(&stored, bytes.data() + body_end, sizeof stored);
+  if (stored != fnv1a64(std::span(bytes.data(), body_end)))
+    throw io::InputError("policy file " + file +
+                         ": checksum mismatch (file is corrupt or truncated)");
+
+  Reader r(bytes, body_end, file);
+  char magic[sizeof kMagic];
+  r.get_array(magic, sizeof magic, "magic");
+  (void)r.get<std::uint32_t>("version");
+  const auto obs_dim = r.get<std::uint32_t>("obs_dim");
+  const auto act_dim = r.get<std::uint32_t>("act_dim");
+  if (obs_dim == 0 || obs_dim > kMaxDim || act_dim == 0 || act_dim > kMaxDim)
+    throw io::InputError("policy file " + file + ": obs_dim " + std::to_string(obs_dim) +
+                         " / act_dim " + std::to_string(act_dim) + " out of range [1, " +
+                         std::to_string(kMaxDim) + "]");
+  const auto actor_hidden = get_hidden(r, file, "actor");
+  const auto critic_hidden = get_hidden(r, file, "critic");
+  PolicyFileContents c{ActorCritic(static_cast<int>(obs_dim), static_cast<int>(act_dim),
+                                   actor_hidden, critic_hidden),
+                       std::nullopt};
+  r.get_array(c.model.actor().params().data(),
+              static_cast<std::size_t>(c.model.actor().num_params()), "actor weights");
+  r.get_array(c.model.critic().params().data(),
+              static_cast<std::size_t>(c.model.critic().num_params()), "critic weights");
+  r.get_array(c.model.log_std().data(), act_dim, "log_std");
+  const auto has_norm = r.get<std::uint32_t>("normalisation flag");
+  if (has_norm > 1)
+    throw io::InputError("policy file " + file + ": normalisation flag " +
+                         std::to_string(has_norm) + " is not 0 or 1");
+  if (has_norm == 1) {
+    ObsNormalization n;
+    n.mean.resize(obs_dim);
+    n.var.resize(obs_dim);
+    r.get_array(n.mean.data(), obs_dim, "normalisation mean");
+    r.get_array(n.var.data(), obs_dim, "normalisation variance");
+    n.epsilon = r.get<double>("normalisation epsilon");
+    n.clip = r.get<double>("normalisation clip");
+    c.obs_norm = std::move(n);
+  }
+  if (r.pos() != r.end())
+    throw io::InputError("policy file " + file + ": " + std::to_string(r.end() - r.pos()) +
+                         " unexpected bytes after the last field");
+  return c;
+}
+
+Policy Policy::load(const std::filesystem::path& path) { return Policy(load_policy(path)); }
+
+Policy::Policy(PolicyFileContents contents) : contents_(std::move(contents)) {}
+
+Eigen::VectorXd Policy::act_deterministic(const Eigen::Ref<const Eigen::VectorXd>& obs) const {
+  if (obs.size() != obs_dim())
+    throw std::invalid_argument("Policy::act_deterministic: observation has " +
+                                std::to_string(obs.size()) + " entries, expected " +
+                                std::to_string(obs_dim()));
+  const Eigen::VectorXf x =
+      (contents_.obs_norm ? contents_.obs_norm->apply(obs) : Eigen::VectorXd(obs)).cast<float>();
+  return contents_.model.deterministic_action(x).cast<double>();
+}
+
+}  // namespace codesign::rl

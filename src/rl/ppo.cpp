@@ -1,0 +1,225 @@
+// GCC 12 reports false -Wmaybe-uninitialized inside its own AVX-512 intrinsics when Eigen
+// vectorises with -march=native (GCC bug 105593); silence it for this file only.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#include "rl/ppo.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+#include "rl/gaussian.hpp"
+
+namespace codesign::rl {
+
+PpoConfig paper_ppo_config() {
+  PpoConfig c;
+  c.learning_rate = 3e-3;
+  c.n_steps = 50;
+  c.batch_size = 256;
+  c.n_epochs = 10;
+  c.gamma = 0.99;
+  c.gae_lambda = 0.95;
+  c.clip_range = 0.2;
+  c.ent_coef = 0.01;
+  c.ent_decay_start = 220'000;
+  c.ent_decay_end = 800'000;
+  c.vf_coef = 0.6;
+  c.max_grad_norm = 0.5;
+  c.target_kl = 0.02;
+  c.actor_hidden = {512, 512, 512};
+  c.critic_hidden = {512, 512, 512};
+  return c;
+}
+
+double entropy_coef_at(const PpoConfig& config, std::int64_t num_timesteps) {
+  if (!config.ent_decay_start || !config.ent_decay_end) return config.ent_coef;
+  const auto t0 = *config.ent_decay_start, t1 = *config.ent_decay_end;
+  if (num_timesteps <= t0) return config.ent_coef;
+  if (num_timesteps >= t1) return 0.0;
+  return config.ent_coef * static_cast<double>(t1 - num_timesteps) / static_cast<double>(t1 - t0);
+}
+
+void validate(const PpoConfig& c) {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("PpoConfig: " + what); };
+  if (!(c.learning_rate > 0)) fail("learning_rate must be > 0");
+  if (c.n_steps < 1) fail("n_steps must be >= 1");
+  if (c.batch_size < 1) fail("batch_size must be >= 1");
+  if (c.n_epochs < 1) fail("n_epochs must be >= 1");
+  if (!(c.gamma >= 0 && c.gamma <= 1)) fail("gamma must be in [0, 1]");
+  if (!(c.gae_lambda >= 0 && c.gae_lambda <= 1)) fail("gae_lambda must be in [0, 1]");
+  if (!(c.clip_range > 0)) fail("clip_range must be > 0");
+  if (!(c.ent_coef >= 0)) fail("ent_coef must be >= 0");
+  if (c.ent_decay_start.has_value() != c.ent_decay_end.has_value())
+    fail("ent_decay_start and ent_decay_end must be given together");
+  if (c.ent_decay_start && !(*c.ent_decay_start >= 0 && *c.ent_decay_end > *c.ent_decay_start))
+    fail("need 0 <= ent_decay_start < ent_decay_end");
+  if (!(c.vf_coef >= 0)) fail("vf_coef must be >= 0");
+  if (!(c.max_grad_norm > 0)) fail("max_grad_norm must be > 0");
+  if (c.target_kl && !(*c.target_kl > 0)) fail("target_kl must be > 0 when set");
+  if (!(c.adam_eps > 0)) fail("adam_eps must be > 0");
+  for (int h : c.actor_hidden)
+    if (h < 1) fail("actor_hidden sizes must be >= 1");
+  for (int h : c.critic_hidden)
+    if (h < 1) fail("critic_hidden sizes must be >= 1");
+}
+
+template <class S>
+PpoLossT<S> ppo_minibatch_loss(const ActorCriticT<S>& model, const PpoMinibatchT<S>& batch,
+                               const PpoLossCoefficients& coefs, ActorCriticGradT<S>* grad,
+                               PpoWorkspaceT<S>& ws) {
+  using RowVec = typename PpoMinibatchT<S>::RowVec;
+  const Eigen::Index n = batch.obs.cols();
+  if (n < 1 || batch.actions.cols() != n || batch.old_log_prob.size() != n ||
+      batch.advantages.size() != n || batch.returns.size() != n)
+    throw std::invalid_argument("ppo_minibatch_loss: minibatch arrays disagree in length");
+  const S inv_n = S(1) / S(n);
+
+  // Advantages, normalised per minibatch with torch's unbiased std (SB3).
+  RowVec adv = batch.advantages;
+  if (coefs.normalize_advantage && n > 1) {
+    const S mean = adv.mean();
+    const S stddev = std::sqrt((adv.array() - mean).square().sum() / S(n - 1));
+    adv = (adv.array() - mean) / (stddev + S(1e-8));
+  }
+
+  const auto& mean_action = model.actor().forward(batch.obs, ws.actor_cache);
+  const auto& values = model.critic().forward(batch.obs, ws.critic_cache);
+  const RowVec log_prob = gaussian_log_prob<S>(mean_action, model.log_std(), batch.actions);
+  const RowVec log_ratio = log_prob - batch.old_log_prob;
+  const RowVec ratio = log_ratio.array().exp();
+
+  const S lo = S(1 - coefs.clip_range), hi = S(1 + coefs.clip_range);
+  PpoLossT<S> out;
+  RowVec d_logp(n);
+  S pg_sum = 0, kl_sum = 0;
+  Eigen::Index clipped = 0;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const S r = ratio(j);
+    const S surr1 = adv(j) * r;
+    const S surr2 = adv(j) * std::clamp(r, lo, hi);
+    // min(surr1, surr2): where surr1 is the smaller (or equal) one the gradient w.r.t. r is A;
+    // otherwise the clipped branch is selected, which is constant in r outside [lo, hi] and equal
+    // to surr1 inside it.
+    pg_sum += std::min(surr1, surr2);
+    d_logp(j) = surr1 <= surr2 ? -adv(j) * r * inv_n : S(0);
+    if (std::abs(r - S(1)) > S(coefs.clip_range)) ++clipped;
+    kl_sum += (r - S(1)) - log_ratio(j);
+  }
+  out.pg_loss = -pg_sum * inv_n;
+  out.value_loss = (batch.returns - values.row(0)).squaredNorm() * inv_n;
+  const S entropy = gaussian_entropy<S>(model.log_std());
+  out.entropy_loss = -entropy;  // -mean(entropy); the entropy is the same for every sample
+  out.loss = out.pg_loss + S(coefs.ent_coef) * out.entropy_loss + S(coefs.vf_coef) * out.value_loss;
+  out.approx_kl = kl_sum * inv_n;
+  out.clip_fraction = S(clipped) * inv_n;
+
+  if (grad != nullptr) {
+    grad->log_std.setZero();
+    gaussian_log_prob_backward<S>(mean_action, model.log_std(), batch.actions, d_logp, ws.d_mean,
+                                  grad->log_std);
+    gaussian_entropy_backward<S>(-S(coefs.ent_coef), grad->log_std);
+    ws.d_value = (S(2 * coefs.vf_coef) * inv_n) * (values.row(0) - batch.returns);
+    model.actor().backward(ws.actor_cache, ws.d_mean, grad->actor);
+    model.critic().backward(ws.critic_cache, ws.d_value, grad->critic);
+  }
+  return out;
+}
+
+template PpoLossT<float> ppo_minibatch_loss<float>(const ActorCriticT<float>&,
+                                                   const PpoMinibatchT<float>&,
+                                                   const PpoLossCoefficients&,
+                                                   ActorCriticGradT<float>*, PpoWorkspaceT<float>&);
+template PpoLossT<double> ppo_minibatch_loss<double>(const ActorCriticT<double>&,
+                                                     const PpoMinibatchT<double>&,
+                                                     const PpoLossCoefficients&,
+                                                     ActorCriticGradT<double>*,
+                                                     PpoWorkspaceT<double>&);
+
+namespace {
+
+double explained_variance(const Eigen::RowVectorXf& y_pred, const Eigen::RowVectorXf& y_true) {
+  const Eigen::RowVectorXd t = y_true.cast<double>();
+  const Eigen::RowVectorXd d = t - y_pred.cast<double>();
+  const double var_y = (t.array() - t.mean()).square().mean();
+  if (var_y == 0) return std::numeric_limits<double>::quiet_NaN();
+  return 1.0 - (d.array() - d.mean()).square().mean() / var_y;
+}
+
+}  // namespace
+
+PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& buffer,
+                    const PpoConfig& config, std::int64_t num_timesteps, Rng& rng) {
+  validate(config);
+  if (!buffer.full()) throw std::logic_error("ppo_update: rollout buffer is not full");
+  const Eigen::Index n = buffer.size();
+  PpoStats stats;
+  stats.ent_coef = entropy_coef_at(config, num_timesteps);
+  stats.explained_variance = explained_variance(buffer.values(), buffer.returns());
+  const PpoLossCoefficients coefs{config.clip_range, stats.ent_coef, config.vf_coef,
+                                  config.normalize_advantage};
+
+  std::vector<Eigen::Index> perm(static_cast<std::size_t>(n));
+  PpoMinibatchT<float> mb;
+  PpoWorkspaceT<float> ws;
+  ActorCriticGrad grad = model.zero_grad();
+  const auto blocks = model.adam_blocks(grad);
+  double sum_pg = 0, sum_v = 0, sum_ent = 0, sum_kl = 0, sum_clip = 0, sum_norm = 0;
+  int n_losses = 0;
+
+  for (int epoch = 0; epoch < config.n_epochs && !stats.early_stopped; ++epoch) {
+    ++stats.epochs_done;
+    std::iota(perm.begin(), perm.end(), Eigen::Index{0});
+    for (Eigen::Index i = n - 1; i > 0; --i)  // Fisher-Yates
+      std::swap(perm[static_cast<std::size_t>(i)],
+                perm[rng.uniform_index(static_cast<std::uint64_t>(i) + 1)]);
+    for (Eigen::Index start = 0; start < n; start += config.batch_size) {
+      const Eigen::Index b = std::min<Eigen::Index>(config.batch_size, n - start);
+      mb.obs.resize(buffer.obs_dim(), b);
+      mb.actions.resize(buffer.act_dim(), b);
+      mb.old_log_prob.resize(b);
+      mb.advantages.resize(b);
+      mb.returns.resize(b);
+      for (Eigen::Index j = 0; j < b; ++j) {
+        const Eigen::Index k = perm[static_cast<std::size_t>(start + j)];
+        mb.obs.col(j) = buffer.observations().col(k);
+        mb.actions.col(j) = buffer.actions().col(k);
+        mb.old_log_prob(j) = buffer.log_probs()(k);
+        mb.advantages(j) = buffer.advantages()(k);
+        mb.returns(j) = buffer.returns()(k);
+      }
+      const PpoLossT<float> l = ppo_minibatch_loss<float>(model, mb, coefs, &grad, ws);
+      sum_pg += l.pg_loss;
+      sum_v += l.value_loss;
+      sum_ent += l.entropy_loss;
+      sum_kl += l.approx_kl;
+      sum_clip += l.clip_fraction;
+      ++n_losses;
+      stats.loss = l.loss;
+      if (config.target_kl && l.approx_kl > 1.5 * *config.target_kl) {
+        stats.early_stopped = true;  // this minibatch is not applied (SB3 breaks before step)
+        break;
+      }
+      const double norm = std::sqrt(static_cast<double>(grad.squared_norm()));
+      sum_norm += norm;
+      const double clip_coef = config.max_grad_norm / (norm + 1e-6);
+      if (clip_coef < 1.0) grad.scale(static_cast<float>(clip_coef));
+      optimizer.step(blocks, config.learning_rate);
+      ++stats.minibatches_applied;
+    }
+  }
+  if (n_losses > 0) {
+    stats.pg_loss = sum_pg / n_losses;
+    stats.value_loss = sum_v / n_losses;
+    stats.entropy_loss = sum_ent / n_losses;
+    stats.approx_kl = sum_kl / n_losses;
+    stats.clip_fraction = sum_clip / n_losses;
+  }
+  if (stats.minibatches_applied > 0) stats.grad_norm = sum_norm / stats.minibatches_applied;
+  return stats;
+}
+
+}  // namespace codesign::rl

@@ -1,0 +1,122 @@
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12 + Eigen AVX-512 (bug 105593)
+#include "rl/policy_file.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "io/errors.hpp"
+
+namespace codesign::rl {
+namespace {
+
+namespace fs = std::filesystem;
+
+class PolicyFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("codesign_policy_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+            "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+    path_ = dir_ / "policy.bin";
+    Rng rng(17);
+    model_ = ActorCritic(3, 2, {16, 8}, {12}, -0.5f);
+    model_.init_orthogonal(rng);
+    // Non-trivial head and log_std so actions are not ~0.
+    model_.actor().params() *= 3.0f;
+    model_.log_std() << -0.25f, 0.5f;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::vector<char> bytes() const {
+    std::ifstream in(path_, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  }
+  void write(const std::vector<char>& b) const {
+    std::ofstream out(path_, std::ios::binary | std::ios::trunc);
+    out.write(b.data(), static_cast<std::streamsize>(b.size()));
+  }
+  void expect_load_error(const std::string& fragment) const {
+    try {
+      load_policy(path_);
+      ADD_FAILURE() << "expected io::InputError containing '" << fragment << "'";
+    } catch (const io::InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(path_.string()), std::string::npos) << msg;
+      EXPECT_NE(msg.find(fragment), std::string::npos) << msg;
+    }
+  }
+
+  fs::path dir_, path_;
+  ActorCritic model_;
+};
+
+TEST_F(PolicyFile, RoundTripGivesBitIdenticalActions) {
+  ObsNormalization norm{Eigen::Vector3d(0.1, -0.2, 0.3), Eigen::Vector3d(2.0, 0.5, 1.0), 1e-8, 5.0};
+  save_policy(path_, model_, norm);
+  EXPECT_FALSE(fs::exists(path_.string() + ".tmp"));
+  const Policy policy = Policy::load(path_);
+  EXPECT_EQ(policy.model().actor().params(), model_.actor().params());
+  EXPECT_EQ(policy.model().critic().params(), model_.critic().params());
+  EXPECT_EQ(policy.model().log_std(), model_.log_std());
+  EXPECT_EQ(policy.model().actor().sizes(), model_.actor().sizes());
+  EXPECT_EQ(policy.model().critic().sizes(), model_.critic().sizes());
+  Rng rng(3);
+  for (int k = 0; k < 20; ++k) {
+    const Eigen::Vector3d obs(rng.normal(), rng.normal(), rng.normal());
+    const Eigen::VectorXf x = norm.apply(obs).cast<float>();
+    const Eigen::VectorXd expected = model_.deterministic_action(x).cast<double>();
+    const Eigen::VectorXd got = policy.act_deterministic(obs);
+    ASSERT_EQ(got.size(), 2);
+    EXPECT_EQ(got, expected);  // bit-identical
+  }
+}
+
+TEST_F(PolicyFile, RoundTripWithoutNormalisation) {
+  save_policy(path_, model_);
+  const PolicyFileContents c = load_policy(path_);
+  EXPECT_FALSE(c.obs_norm.has_value());
+  const Eigen::Vector3f obs(0.5f, -1.f, 2.f);
+  EXPECT_EQ(c.model.deterministic_action(obs), model_.deterministic_action(obs));
+}
+
+TEST_F(PolicyFile, FlippedByteIsDetected) {
+  save_policy(path_, model_);
+  auto b = bytes();
+  b[b.size() / 2] ^= 0x10;
+  write(b);
+  expect_load_error("checksum mismatch");
+}
+
+TEST_F(PolicyFile, TruncationIsDetected) {
+  save_policy(path_, model_);
+  auto b = bytes();
+  b.resize(b.size() - 100);
+  write(b);
+  expect_load_error("checksum mismatch");
+  b.resize(6);
+  write(b);
+  expect_load_error("too short");
+}
+
+TEST_F(PolicyFile, WrongMagicAndVersionAreDetected) {
+  save_policy(path_, model_);
+  auto b = bytes();
+  auto wrong_version = b;
+  wrong_version[8] = 7;  // version is the u32 after the 8-byte magic
+  write(wrong_version);
+  expect_load_error("unsupported version 7");
+  b[0] = 'X';
+  write(b);
+  expect_load_error("bad magic");
+}
+
+TEST_F(PolicyFile, MissingFileIsAnInputError) { expect_load_error("cannot open"); }
+
+}  // namespace
+}  // namespace codesign::rl

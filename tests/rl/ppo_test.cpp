@@ -1,0 +1,202 @@
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12 + Eigen AVX-512 (bug 105593)
+#include "rl/ppo.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "fd_check.hpp"
+#include "rl/gaussian.hpp"
+
+namespace codesign::rl {
+namespace {
+
+using ModelD = ActorCriticT<double>;
+using BatchD = PpoMinibatchT<double>;
+
+void randomise(ModelD& m, Rng& rng, double scale) {
+  for (auto* v : {&m.actor().params(), &m.critic().params()})
+    for (Eigen::Index i = 0; i < v->size(); ++i) (*v)(i) = scale * rng.normal();
+  for (Eigen::Index i = 0; i < m.log_std().size(); ++i) m.log_std()(i) = 0.3 * rng.normal();
+}
+
+BatchD random_batch(const ModelD& m, int n, double log_ratio_spread, Rng& rng) {
+  BatchD b;
+  b.obs.resize(m.obs_dim(), n);
+  for (Eigen::Index i = 0; i < b.obs.size(); ++i) b.obs(i) = rng.normal();
+  const auto act = m.act(b.obs, rng);
+  b.actions = act.actions;
+  b.old_log_prob = act.log_probs;
+  b.advantages.resize(n);
+  b.returns.resize(n);
+  for (int j = 0; j < n; ++j) {
+    b.old_log_prob(j) += log_ratio_spread * rng.normal();
+    b.advantages(j) = rng.normal();
+    b.returns(j) = rng.normal();
+  }
+  return b;
+}
+
+TEST(PpoLoss, FullLossGradientMatchesFiniteDifferences) {
+  Rng rng(21);
+  ModelD model(3, 2, {5, 4}, {6}, 0.0);
+  randomise(model, rng, 0.5);
+  const BatchD batch = random_batch(model, 9, 0.3, rng);
+  const PpoLossCoefficients coefs{0.2, 0.05, 0.6, true};
+  PpoWorkspaceT<double> ws;
+  auto grad = model.zero_grad();
+  const auto l = ppo_minibatch_loss<double>(model, batch, coefs, &grad, ws);
+  // Both branches of the clipped surrogate must be exercised for the check to mean anything.
+  ASSERT_GT(l.clip_fraction, 0.0);
+  ASSERT_LT(l.clip_fraction, 1.0);
+  auto loss = [&] { return ppo_minibatch_loss<double>(model, batch, coefs, nullptr, ws).loss; };
+  test::expect_gradient_matches(model.actor().params(), loss, grad.actor, "actor");
+  test::expect_gradient_matches(model.critic().params(), loss, grad.critic, "critic");
+  test::expect_gradient_matches(model.log_std(), loss, grad.log_std, "log_std");
+}
+
+// One sample whose ratio is set to r; pg loss only.
+ActorCriticGradT<double> pg_gradient(double r, double advantage) {
+  Rng rng(4);
+  ModelD model(2, 1, {4}, {4}, 0.0);
+  randomise(model, rng, 0.7);
+  BatchD b = random_batch(model, 1, 0.0, rng);
+  b.old_log_prob(0) -= std::log(r);  // log_prob - old = log r
+  b.advantages(0) = advantage;
+  const PpoLossCoefficients coefs{0.2, 0.0, 0.0, false};
+  PpoWorkspaceT<double> ws;
+  auto grad = model.zero_grad();
+  const auto l = ppo_minibatch_loss<double>(model, b, coefs, &grad, ws);
+  EXPECT_NEAR(l.pg_loss, -std::min(advantage * r, advantage * std::clamp(r, 0.8, 1.2)), 1e-12);
+  return grad;
+}
+
+double pg_grad_norm(double r, double a) {
+  const auto g = pg_gradient(r, a);
+  return std::sqrt(g.actor.squaredNorm() + g.log_std.squaredNorm());
+}
+
+TEST(PpoLoss, ClippedSurrogateHasZeroGradientOnlyWhereTheClipBinds) {
+  // ratio above 1 + eps: no gradient for A > 0 (no incentive to push further), gradient for A < 0.
+  EXPECT_EQ(pg_grad_norm(1.5, +1.0), 0.0);
+  EXPECT_GT(pg_grad_norm(1.5, -1.0), 1e-3);
+  // ratio below 1 - eps: no gradient for A < 0, gradient for A > 0.
+  EXPECT_EQ(pg_grad_norm(0.5, -1.0), 0.0);
+  EXPECT_GT(pg_grad_norm(0.5, +1.0), 1e-3);
+  // inside the trust region: gradient for both signs.
+  EXPECT_GT(pg_grad_norm(1.1, +1.0), 1e-3);
+  EXPECT_GT(pg_grad_norm(0.9, -1.0), 1e-3);
+}
+
+TEST(PpoLoss, AdvantagesAreNormalisedWithUnbiasedStd) {
+  // Two samples, A = (1, 3): mean 2, unbiased std sqrt(2) -> A_hat = (-1/sqrt2, +1/sqrt2)
+  // (population std would give -1, +1). Ratios 1.1 and 1.0, both inside the clip range:
+  // pg = -mean(A_hat r) = -(-1.1 + 1.0) / (2 sqrt2) = 0.1 / (2 sqrt2) = 0.0353553...
+  Rng rng(9);
+  ModelD model(2, 1, {3}, {3}, 0.0);
+  randomise(model, rng, 0.5);
+  BatchD b = random_batch(model, 2, 0.0, rng);
+  b.old_log_prob(0) -= std::log(1.1);
+  b.advantages << 1.0, 3.0;
+  PpoWorkspaceT<double> ws;
+  const auto l = ppo_minibatch_loss<double>(model, b, {0.2, 0.0, 0.5, true}, nullptr, ws);
+  EXPECT_NEAR(l.pg_loss, 0.1 / (2 * std::sqrt(2.0)) / (1 + 1e-8 / std::sqrt(2.0)), 1e-12);
+}
+
+TEST(PpoLoss, ValueLossEntropyAndKlMatchDefinitions) {
+  Rng rng(13);
+  ModelD model(2, 2, {3}, {3}, 0.0);
+  randomise(model, rng, 0.5);
+  const BatchD b = random_batch(model, 5, 0.2, rng);
+  PpoWorkspaceT<double> ws;
+  const PpoLossCoefficients coefs{0.2, 0.03, 0.7, true};
+  const auto l = ppo_minibatch_loss<double>(model, b, coefs, nullptr, ws);
+  const Eigen::RowVectorXd v = model.value(b.obs);
+  const Eigen::RowVectorXd lp =
+      gaussian_log_prob<double>(model.deterministic_actions(b.obs), model.log_std(), b.actions);
+  const Eigen::RowVectorXd lr = lp - b.old_log_prob;
+  EXPECT_NEAR(l.value_loss, (b.returns - v).squaredNorm() / 5, 1e-12);
+  EXPECT_NEAR(l.entropy_loss, -gaussian_entropy<double>(model.log_std()), 1e-12);
+  EXPECT_NEAR(l.approx_kl, (lr.array().exp() - 1 - lr.array()).mean(), 1e-12);
+  EXPECT_NEAR(l.loss, l.pg_loss + 0.03 * l.entropy_loss + 0.7 * l.value_loss, 1e-12);
+}
+
+// A full buffer of 5 steps x 2 envs (10 samples) from a small float model.
+RolloutBuffer make_buffer(const ActorCritic& model, float log_prob_shift, Rng& rng) {
+  RolloutBuffer buf(5, 2, 2, 1);
+  for (int t = 0; t < 5; ++t) {
+    Eigen::MatrixXf obs(2, 2);
+    for (Eigen::Index i = 0; i < obs.size(); ++i) obs(i) = static_cast<float>(rng.normal());
+    const auto a = model.act(obs, rng);
+    Eigen::RowVectorXf r(2);
+    r << static_cast<float>(rng.normal()), static_cast<float>(rng.normal());
+    buf.add(obs, a.actions, r, Eigen::RowVectorXf::Constant(2, t == 0 ? 1.f : 0.f), a.values,
+            (a.log_probs.array() + log_prob_shift).matrix());
+  }
+  buf.compute_returns_and_advantage(Eigen::RowVectorXf::Zero(2), Eigen::RowVectorXf::Zero(2),
+                                    0.99, 0.95);
+  return buf;
+}
+
+TEST(PpoUpdate, KlEarlyStopSkipsTheOffendingMinibatchAndAllLaterEpochs) {
+  Rng rng(1);
+  ActorCritic model(2, 1, {8}, {8});
+  model.init_orthogonal(rng);
+  // Old log-probs 2 nats below the current ones: ratio e^2, approx_kl = e^2 - 3 = 4.39 > 0.03.
+  const RolloutBuffer buf = make_buffer(model, -2.0f, rng);
+  PpoConfig cfg;
+  cfg.batch_size = 4;
+  cfg.n_epochs = 10;
+  cfg.target_kl = 0.02;
+  Adam adam = make_adam(cfg);
+  const ActorCritic before = model;
+  const PpoStats s = ppo_update(model, adam, buf, cfg, 0, rng);
+  EXPECT_TRUE(s.early_stopped);
+  EXPECT_EQ(s.epochs_done, 1);
+  EXPECT_EQ(s.minibatches_applied, 0);
+  EXPECT_NEAR(s.approx_kl, std::exp(2.0) - 3.0, 1e-4);
+  EXPECT_EQ(model.actor().params(), before.actor().params());
+  EXPECT_EQ(model.critic().params(), before.critic().params());
+  EXPECT_EQ(adam.step_count(), 0);
+}
+
+TEST(PpoUpdate, WithoutTargetKlRunsAllEpochsIncludingThePartialMinibatch) {
+  Rng rng(1);
+  ActorCritic model(2, 1, {8}, {8});
+  model.init_orthogonal(rng);
+  const RolloutBuffer buf = make_buffer(model, -2.0f, rng);
+  PpoConfig cfg;
+  cfg.batch_size = 4;  // 10 samples -> minibatches of 4, 4, 2
+  cfg.n_epochs = 10;
+  Adam adam = make_adam(cfg);
+  const PpoStats s = ppo_update(model, adam, buf, cfg, 0, rng);
+  EXPECT_FALSE(s.early_stopped);
+  EXPECT_EQ(s.epochs_done, 10);
+  EXPECT_EQ(s.minibatches_applied, 30);
+  EXPECT_EQ(adam.step_count(), 30);
+}
+
+TEST(PpoConfig, EntropyCoefficientDecaysLinearly) {
+  const PpoConfig c = paper_ppo_config();
+  EXPECT_DOUBLE_EQ(entropy_coef_at(c, 0), 0.01);
+  EXPECT_DOUBLE_EQ(entropy_coef_at(c, 220'000), 0.01);
+  EXPECT_NEAR(entropy_coef_at(c, 510'000), 0.005, 1e-15);
+  EXPECT_DOUBLE_EQ(entropy_coef_at(c, 800'000), 0.0);
+  EXPECT_DOUBLE_EQ(entropy_coef_at(c, 1'000'000), 0.0);
+  PpoConfig constant;
+  constant.ent_coef = 0.02;
+  EXPECT_DOUBLE_EQ(entropy_coef_at(constant, 5'000'000), 0.02);
+}
+
+TEST(PpoConfig, ValidateRejectsBadValues) {
+  PpoConfig c;
+  c.batch_size = 0;
+  EXPECT_THROW(validate(c), std::invalid_argument);
+  c = PpoConfig{};
+  c.ent_decay_start = 10;
+  EXPECT_THROW(validate(c), std::invalid_argument);
+  EXPECT_NO_THROW(validate(paper_ppo_config()));
+}
+
+}  // namespace
+}  // namespace codesign::rl
