@@ -1,0 +1,110 @@
+#include "io/gym_config.hpp"
+
+#include <string>
+#include <vector>
+
+namespace codesign::io {
+
+namespace {
+
+constexpr std::int64_t kMaxSteps = 1'000'000'000'000;  // 1e12 timesteps
+
+std::vector<int> to_int(const std::vector<std::int64_t>& v) {
+  return std::vector<int>(v.begin(), v.end());
+}
+std::vector<std::int64_t> to_int64(const std::vector<int>& v) {
+  return std::vector<std::int64_t>(v.begin(), v.end());
+}
+
+}  // namespace
+
+rl::PpoConfig read_ppo_config(TableReader& t, const rl::PpoConfig& d) {
+  rl::PpoConfig c;
+  c.learning_rate = t.number("learning_rate", d.learning_rate, 1e-9, 1.0);
+  c.n_steps = static_cast<int>(t.integer("n_steps", d.n_steps, 1, 1'000'000));
+  c.batch_size = static_cast<int>(t.integer("batch_size", d.batch_size, 1, 100'000'000));
+  c.n_epochs = static_cast<int>(t.integer("n_epochs", d.n_epochs, 1, 10'000));
+  c.gamma = t.number("gamma", d.gamma, 0.0, 1.0);
+  c.gae_lambda = t.number("gae_lambda", d.gae_lambda, 0.0, 1.0);
+  c.clip_range = t.number("clip_range", d.clip_range, 1e-6, 10.0);
+  c.ent_coef = t.number("ent_coef", d.ent_coef, 0.0, 10.0);
+  c.ent_decay_start = d.ent_decay_start;
+  c.ent_decay_end = d.ent_decay_end;
+  if (t.has("ent_decay_start") || t.has("ent_decay_end")) {
+    if (!t.has("ent_decay_start") || !t.has("ent_decay_end"))
+      t.fail(t.has("ent_decay_start") ? "ent_decay_end" : "ent_decay_start",
+             "missing; ent_decay_start and ent_decay_end must be given together");
+    c.ent_decay_start = t.integer("ent_decay_start", 0, 0, kMaxSteps);
+    c.ent_decay_end = t.integer("ent_decay_end", 0, 1, kMaxSteps);
+    if (*c.ent_decay_end <= *c.ent_decay_start)
+      t.fail("ent_decay_end", "must be greater than ent_decay_start (" +
+                                  std::to_string(*c.ent_decay_start) + ")");
+  } else {
+    // Mark both as read so finish() accepts neither being present.
+    t.integer("ent_decay_start", 0, 0, kMaxSteps);
+    t.integer("ent_decay_end", 0, 0, kMaxSteps);
+  }
+  c.vf_coef = t.number("vf_coef", d.vf_coef, 0.0, 1000.0);
+  c.max_grad_norm = t.number("max_grad_norm", d.max_grad_norm, 1e-9, 1e9);
+  c.target_kl = d.target_kl;
+  if (t.has("target_kl")) c.target_kl = t.number("target_kl", 0.0, 1e-9, 100.0);
+  else t.number("target_kl", 0.0, 1e-9, 100.0);
+  c.normalize_advantage = t.boolean("normalize_advantage", d.normalize_advantage);
+  c.actor_hidden = to_int(t.integers("actor_hidden", to_int64(d.actor_hidden), 1, 8192, 1, 16));
+  c.critic_hidden =
+      to_int(t.integers("critic_hidden", to_int64(d.critic_hidden), 1, 8192, 1, 16));
+  c.log_std_init = t.number("log_std_init", d.log_std_init, -20.0, 5.0);
+  c.adam_eps = t.number("adam_eps", d.adam_eps, 1e-20, 1.0);
+  return c;
+}
+
+GymTrainConfig read_gym_config(TableReader& root) {
+  GymTrainConfig g;
+  const GymTrainConfig d;
+
+  TableReader env = root.table("env");
+  g.env_name = env.string("name", d.env_name, {"pendulum"});
+  g.trainer.n_envs = static_cast<int>(env.integer("n_envs", d.trainer.n_envs, 1, 4096));
+  g.trainer.n_threads = static_cast<std::size_t>(
+      env.integer("n_threads", static_cast<std::int64_t>(d.trainer.n_threads), 0, 1024));
+  // Seeds up to 2^53 so every seed prints and parses exactly as a double too.
+  g.trainer.seed = static_cast<std::uint64_t>(env.integer("seed", 0, 0, 9'007'199'254'740'992));
+  g.max_episode_steps =
+      static_cast<int>(env.integer("max_episode_steps", d.max_episode_steps, 1, 100'000'000));
+  env.finish();
+
+  TableReader ppo = root.table("ppo");
+  g.trainer.ppo = read_ppo_config(ppo);
+  ppo.finish();
+  const std::int64_t rollout = static_cast<std::int64_t>(g.trainer.ppo.n_steps) * g.trainer.n_envs;
+  if (g.trainer.ppo.batch_size > rollout)
+    ppo.fail("batch_size", "value " + std::to_string(g.trainer.ppo.batch_size) +
+                               " is out of range; allowed [1, n_steps * env.n_envs = " +
+                               std::to_string(rollout) + "]");
+
+  TableReader train = root.table("train");
+  g.trainer.total_timesteps =
+      train.integer("total_timesteps", d.trainer.total_timesteps, 1, kMaxSteps);
+  g.eval_episodes = static_cast<int>(train.integer("eval_episodes", d.eval_episodes, 1, 100'000));
+  g.trainer.stats_window = static_cast<std::size_t>(
+      train.integer("stats_window", static_cast<std::int64_t>(d.trainer.stats_window), 1,
+                    1'000'000));
+  g.log_every_iterations =
+      static_cast<int>(train.integer("log_every_iterations", d.log_every_iterations, 1, 1'000'000));
+  g.checkpoint_every_iterations = static_cast<int>(train.integer(
+      "checkpoint_every_iterations", d.checkpoint_every_iterations, 0, 1'000'000));
+  g.save_policy = train.boolean("save_policy", d.save_policy);
+  g.output_dir = train.string("output_dir", d.output_dir);
+  if (g.output_dir.empty()) train.fail("output_dir", "must not be empty");
+  train.finish();
+
+  root.finish();
+  return g;
+}
+
+GymTrainConfig load_gym_config(const std::string& path) {
+  TableReader root = TableReader::from_file(path);
+  return read_gym_config(root);
+}
+
+}  // namespace codesign::io

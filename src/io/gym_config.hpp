@@ -1,0 +1,44 @@
+#pragma once
+// The config of `codesign train-gym` (PPO on a classic-control task), and the [ppo] table reader
+// shared with the co-design run.
+//
+//   [env]    name = "pendulum", n_envs, n_threads, seed, max_episode_steps
+//   [ppo]    every rl::PpoConfig field (see read_ppo_config)
+//   [train]  total_timesteps, eval_episodes, stats_window, log_every_iterations,
+//            checkpoint_every_iterations, save_policy, output_dir
+// Every key is optional (defaults below), range-checked, and unknown keys or tables are errors.
+#include <cstdint>
+#include <string>
+
+#include "io/toml_reader.hpp"
+#include "rl/ppo.hpp"
+#include "rl/trainer.hpp"
+
+namespace codesign::io {
+
+struct GymTrainConfig {
+  std::string env_name = "pendulum";
+  int max_episode_steps = 200;  // the Gymnasium time limit of Pendulum-v1
+  // PPO, n_envs (default 4), n_threads, seed, total_timesteps, stats_window.
+  rl::TrainerConfig trainer;
+  int eval_episodes = 20;
+  int log_every_iterations = 1;
+  int checkpoint_every_iterations = 0;  // 0: only the final policy is saved
+  bool save_policy = true;
+  std::string output_dir = "runs/train-gym";
+};
+
+// Reads the keys of a [ppo] table over `defaults`:
+//   learning_rate, n_steps, batch_size, n_epochs, gamma, gae_lambda, clip_range, ent_coef,
+//   ent_decay_start, ent_decay_end, vf_coef, max_grad_norm, target_kl, normalize_advantage,
+//   actor_hidden, critic_hidden, log_std_init, adam_eps.
+// Absent optional fields (target_kl, ent_decay_*) keep the default's value. Cross-field rules
+// (ent_decay_start < ent_decay_end, both or neither) are checked here too. Does NOT call
+// table.finish(): a caller may read extra keys from the same table, then must call finish().
+rl::PpoConfig read_ppo_config(TableReader& table, const rl::PpoConfig& defaults = {});
+
+// Reads a whole train-gym config (and finishes every table).
+GymTrainConfig read_gym_config(TableReader& root);
+GymTrainConfig load_gym_config(const std::string& path);
+
+}  // namespace codesign::io

@@ -1,0 +1,127 @@
+// The train-gym config reader: the shipped pendulum config, defaults, and validation messages
+// (every message names the file, the key and the allowed range).
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "io/errors.hpp"
+#include "io/gym_config.hpp"
+
+namespace codesign::io {
+namespace {
+
+GymTrainConfig parse(const std::string& text) {
+  TableReader root = TableReader::from_string(text, "test.toml");
+  return read_gym_config(root);
+}
+
+// Parses `text` expecting an InputError; returns its message.
+std::string error_of(const std::string& text) {
+  try {
+    parse(text);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no error for:\n" << text;
+  return {};
+}
+
+TEST(GymConfig, ShippedPendulumConfigHasTheIssueSettings) {
+  const GymTrainConfig c = load_gym_config(CODESIGN_SOURCE_DIR "/configs/pendulum.toml");
+  EXPECT_EQ(c.env_name, "pendulum");
+  EXPECT_EQ(c.trainer.n_envs, 4);
+  EXPECT_EQ(c.trainer.ppo.n_steps, 1024);
+  EXPECT_EQ(c.trainer.ppo.batch_size, 64);
+  EXPECT_EQ(c.trainer.ppo.n_epochs, 10);
+  EXPECT_DOUBLE_EQ(c.trainer.ppo.gamma, 0.9);
+  EXPECT_DOUBLE_EQ(c.trainer.ppo.gae_lambda, 0.95);
+  EXPECT_DOUBLE_EQ(c.trainer.ppo.learning_rate, 1e-3);
+  EXPECT_DOUBLE_EQ(c.trainer.ppo.clip_range, 0.2);
+  EXPECT_DOUBLE_EQ(c.trainer.ppo.ent_coef, 0.0);
+  EXPECT_EQ(c.trainer.ppo.actor_hidden, (std::vector<int>{64, 64}));
+  EXPECT_EQ(c.trainer.ppo.critic_hidden, (std::vector<int>{64, 64}));
+  EXPECT_FALSE(c.trainer.ppo.target_kl.has_value());
+  EXPECT_EQ(c.trainer.total_timesteps, 100'000);
+  EXPECT_EQ(c.eval_episodes, 20);
+  EXPECT_EQ(c.max_episode_steps, 200);
+}
+
+TEST(GymConfig, EmptyFileGivesDefaults) {
+  const GymTrainConfig c = parse("");
+  const GymTrainConfig d;
+  const rl::PpoConfig p;
+  EXPECT_EQ(c.env_name, "pendulum");
+  EXPECT_EQ(c.trainer.n_envs, d.trainer.n_envs);
+  EXPECT_EQ(c.trainer.ppo.n_steps, p.n_steps);
+  EXPECT_DOUBLE_EQ(c.trainer.ppo.learning_rate, p.learning_rate);
+  EXPECT_FALSE(c.trainer.ppo.ent_decay_start.has_value());
+  EXPECT_EQ(c.output_dir, d.output_dir);
+}
+
+TEST(GymConfig, OptionalPpoFields) {
+  const GymTrainConfig c =
+      parse("[ppo]\ntarget_kl = 0.02\nent_decay_start = 220000\nent_decay_end = 800000\n");
+  ASSERT_TRUE(c.trainer.ppo.target_kl.has_value());
+  EXPECT_DOUBLE_EQ(*c.trainer.ppo.target_kl, 0.02);
+  EXPECT_EQ(c.trainer.ppo.ent_decay_start.value_or(-1), 220000);
+  EXPECT_EQ(c.trainer.ppo.ent_decay_end.value_or(-1), 800000);
+}
+
+TEST(GymConfig, ReadPpoConfigLeavesFinishToCaller) {
+  TableReader root = TableReader::from_string("[ppo]\ngamma = 0.5\nextra = 3\n", "x.toml");
+  TableReader ppo = root.table("ppo");
+  rl::PpoConfig defaults;
+  defaults.n_epochs = 7;
+  const rl::PpoConfig c = read_ppo_config(ppo, defaults);
+  EXPECT_DOUBLE_EQ(c.gamma, 0.5);
+  EXPECT_EQ(c.n_epochs, 7);  // from the given defaults
+  EXPECT_EQ(ppo.integer("extra", 0, 0, 10), 3);  // a caller's own key
+  EXPECT_NO_THROW(ppo.finish());
+}
+
+TEST(GymConfig, OutOfRangeValueNamesFileKeyAndRange) {
+  std::string m = error_of("[ppo]\ngamma = 1.5\n");
+  EXPECT_NE(m.find("test.toml"), std::string::npos) << m;
+  EXPECT_NE(m.find("ppo.gamma"), std::string::npos) << m;
+  EXPECT_NE(m.find("[0, 1]"), std::string::npos) << m;
+
+  m = error_of("[env]\nn_envs = 0\n");
+  EXPECT_NE(m.find("test.toml: env.n_envs"), std::string::npos) << m;
+  EXPECT_NE(m.find("[1, 4096]"), std::string::npos) << m;
+
+  m = error_of("[ppo]\nactor_hidden = [64, 0]\n");
+  EXPECT_NE(m.find("ppo.actor_hidden"), std::string::npos) << m;
+
+  m = error_of("[train]\ntotal_timesteps = -5\n");
+  EXPECT_NE(m.find("train.total_timesteps"), std::string::npos) << m;
+
+  m = error_of("[ppo]\nlearning_rate = \"fast\"\n");
+  EXPECT_NE(m.find("ppo.learning_rate"), std::string::npos) << m;
+}
+
+TEST(GymConfig, UnknownKeysAndTablesAreRejected) {
+  std::string m = error_of("[ppo]\nlearnin_rate = 1e-3\n");
+  EXPECT_NE(m.find("ppo.learnin_rate"), std::string::npos) << m;
+  EXPECT_NE(m.find("learning_rate"), std::string::npos) << m;  // lists the allowed keys
+  m = error_of("[trian]\ntotal_timesteps = 5\n");
+  EXPECT_NE(m.find("trian"), std::string::npos) << m;
+  m = error_of("[env]\nname = \"cartpole\"\n");
+  EXPECT_NE(m.find("env.name"), std::string::npos) << m;
+  EXPECT_NE(m.find("pendulum"), std::string::npos) << m;
+}
+
+TEST(GymConfig, CrossFieldRules) {
+  // batch larger than a rollout (n_steps * n_envs = 8 * 2 = 16).
+  std::string m = error_of("[env]\nn_envs = 2\n[ppo]\nn_steps = 8\nbatch_size = 17\n");
+  EXPECT_NE(m.find("ppo.batch_size"), std::string::npos) << m;
+  EXPECT_NE(m.find("16"), std::string::npos) << m;
+  EXPECT_NO_THROW(parse("[env]\nn_envs = 2\n[ppo]\nn_steps = 8\nbatch_size = 16\n"));
+
+  m = error_of("[ppo]\nent_decay_start = 100\n");
+  EXPECT_NE(m.find("ppo.ent_decay_end"), std::string::npos) << m;
+  m = error_of("[ppo]\nent_decay_start = 100\nent_decay_end = 100\n");
+  EXPECT_NE(m.find("ppo.ent_decay_end"), std::string::npos) << m;
+}
+
+}  // namespace
+}  // namespace codesign::io
