@@ -115,7 +115,10 @@ void MlpT<S>::backward(Cache& cache, const Eigen::Ref<const Mat>& d_out, Eigen::
     MatMap g_w(grad.data() + offsets_[l - 1], sizes_[l], sizes_[l - 1]);
     VecMap g_b(grad.data() + bias_offset(l), sizes_[l]);
     g_w.noalias() = cache.delta * below.transpose();
-    g_b.noalias() = cache.delta.rowwise().sum();
+    // Bias gradient = row sums of delta, as a GEMV with a ones vector (vectorised; a rowwise
+    // sum of a column-major matrix walks rows with a stride).
+    if (cache.ones.size() != cache.delta.cols()) cache.ones = Vec::Ones(cache.delta.cols());
+    g_b.noalias() = cache.delta * cache.ones;
     if (l > 1) {
       cache.delta_prev.noalias() = weight(l).transpose() * cache.delta;
       // below = tanh(z): d tanh / dz = 1 - tanh^2

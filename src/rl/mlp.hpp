@@ -38,6 +38,7 @@ class MlpT {
     std::vector<Mat> a;  // a[0] = input, a[l] = output of layer l (l = 1..num_layers)
     Mat delta;           // backward scratch: dL/d(pre-activation) of the current layer
     Mat delta_prev;      // backward scratch: dL/d(activation) of the layer below
+    Vec ones;            // backward scratch: a vector of ones (bias gradients)
   };
 
   MlpT() = default;

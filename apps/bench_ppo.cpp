@@ -1,0 +1,278 @@
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12 + Eigen AVX-512 (bug 105593)
+// `codesign bench ppo`: wall time of one PPO iteration at the paper's sizes, on one thread.
+//
+// One iteration = the policy/value forward passes of a rollout (40 envs x 50 steps = 2000
+// samples of synthetic observations, obs dim 6, action dim 1; no environment is stepped), GAE,
+// and the PPO update (10 epochs over minibatches of 256) with actor and critic [512, 512, 512].
+// target_kl is disabled so all 10 epochs run (the cost ceiling); the run with target_kl 0.02 is
+// printed too but depends on how soon the KL limit trips.
+// GFLOP/s counts only the GEMMs of the forward and backward passes (2 flops per multiply-add).
+// Baseline in the same run: a textbook triple-loop GEMM on the dominant GEMM shape, and the same
+// minibatch pass in float64, each reported as a ratio.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "commands.hpp"
+#include "rl/ppo.hpp"
+
+namespace codesign::app {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// CPU time of the calling thread: on a shared machine this is closer to what the code costs on
+// an idle core than wall time (it still includes cache interference from other processes).
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// Measured single-core fp32 FMA peak: 16 independent chains of 16-lane fused multiply-adds
+// (enough to cover FMA latency x throughput on current x86 cores), no memory traffic.
+double peak_fma_gflops() {
+  using V = float __attribute__((vector_size(64)));
+  constexpr int kChains = 16;
+  V acc[kChains];
+  for (int c = 0; c < kChains; ++c)
+    for (int l = 0; l < 16; ++l) acc[c][l] = 1.0f + 1e-3f * float(c + l);
+  V mul, add;
+  for (int l = 0; l < 16; ++l) {
+    mul[l] = 0.999999f;
+    add[l] = 1e-7f;
+  }
+  const long iters = 20'000'000;
+  const double t0 = thread_cpu_seconds();
+  for (long i = 0; i < iters; ++i) {
+#pragma GCC unroll 16
+    for (int c = 0; c < kChains; ++c) acc[c] = acc[c] * mul + add;
+    asm volatile("" : "+v"(mul));  // keep the loop from being folded
+  }
+  const double t = thread_cpu_seconds() - t0;
+  float sink = 0;
+  for (int c = 0; c < kChains; ++c) sink += acc[c][0];
+  if (!std::isfinite(sink)) std::printf("(peak loop overflowed)\n");
+  return 2.0 * 16 * kChains * static_cast<double>(iters) / t * 1e-9;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct BenchOptions {
+  int reps = 5;
+  int n_envs = 40;
+  int n_steps = 50;
+  int hidden = 512;
+  bool with_kl = true;
+};
+
+struct IterationTimes {
+  double rollout = 0, gae = 0, update = 0;
+  double cpu = 0;  // thread CPU time of the whole iteration
+  double total() const { return rollout + gae + update; }
+  rl::PpoStats stats;
+};
+
+// One synthetic iteration: forward passes of the rollout, GAE, PPO update.
+IterationTimes run_iteration(rl::ActorCritic& model, rl::Adam& adam, const rl::PpoConfig& cfg,
+                             int n_envs, rl::Rng& rng) {
+  IterationTimes t;
+  rl::RolloutBuffer buffer(cfg.n_steps, n_envs, model.obs_dim(), model.act_dim());
+  Eigen::MatrixXf obs(model.obs_dim(), n_envs);
+  Eigen::RowVectorXf starts = Eigen::RowVectorXf::Ones(n_envs);
+  const double cpu0 = thread_cpu_seconds();
+  auto t0 = Clock::now();
+  for (int s = 0; s < cfg.n_steps; ++s) {
+    for (Eigen::Index i = 0; i < obs.size(); ++i) obs(i) = static_cast<float>(rng.normal());
+    const auto out = model.act(obs, rng);
+    Eigen::RowVectorXf rewards(n_envs);
+    for (int e = 0; e < n_envs; ++e) rewards(e) = static_cast<float>(rng.normal());
+    buffer.add(obs, out.actions, rewards, starts, out.values, out.log_probs);
+    starts.setZero();
+  }
+  const Eigen::RowVectorXf last_values = model.value(obs);
+  t.rollout = seconds_since(t0);
+  t0 = Clock::now();
+  buffer.compute_returns_and_advantage(last_values, Eigen::RowVectorXf::Zero(n_envs), cfg.gamma,
+                                       cfg.gae_lambda);
+  t.gae = seconds_since(t0);
+  t0 = Clock::now();
+  t.stats = rl::ppo_update(model, adam, buffer, cfg, 0, rng);
+  t.update = seconds_since(t0);
+  t.cpu = thread_cpu_seconds() - cpu0;
+  return t;
+}
+
+// GEMM flops of one iteration given the minibatches actually processed.
+double iteration_flops(const rl::ActorCritic& m, int samples, int epochs_of_full_passes) {
+  const double rollout = (m.actor().forward_flops(samples) + m.critic().forward_flops(samples));
+  const double per_sample_update = (m.actor().forward_flops(1) + m.actor().backward_flops(1) +
+                                    m.critic().forward_flops(1) + m.critic().backward_flops(1));
+  return rollout + per_sample_update * samples * epochs_of_full_passes;
+}
+
+// Textbook C = A B, i-j-k loops with a dot product over k (column-major storage).
+void naive_gemm(const Eigen::MatrixXf& a, const Eigen::MatrixXf& b, Eigen::MatrixXf& c) {
+  const Eigen::Index m = a.rows(), k = a.cols(), n = b.cols();
+  for (Eigen::Index i = 0; i < m; ++i)
+    for (Eigen::Index j = 0; j < n; ++j) {
+      float s = 0;
+      for (Eigen::Index p = 0; p < k; ++p) s += a(i, p) * b(p, j);
+      c(i, j) = s;
+    }
+}
+
+template <class S>
+double minibatch_pass_seconds(int hidden, int batch, int reps) {
+  rl::Rng rng(1);
+  rl::ActorCriticT<S> model(6, 1, {hidden, hidden, hidden}, {hidden, hidden, hidden});
+  model.init_orthogonal(rng);
+  rl::PpoMinibatchT<S> mb;
+  mb.obs.resize(6, batch);
+  for (Eigen::Index i = 0; i < mb.obs.size(); ++i) mb.obs(i) = static_cast<S>(rng.normal());
+  const auto a = model.act(mb.obs, rng);
+  mb.actions = a.actions;
+  mb.old_log_prob = a.log_probs;
+  mb.advantages = a.values;
+  mb.returns = a.values.array() + S(1);
+  rl::PpoWorkspaceT<S> ws;
+  auto grad = model.zero_grad();
+  std::vector<double> times;
+  for (int r = 0; r < reps; ++r) {
+    const auto t0 = Clock::now();
+    rl::ppo_minibatch_loss<S>(model, mb, {0.2, 0.01, 0.6, true}, &grad, ws);
+    times.push_back(seconds_since(t0));
+  }
+  return median(times);
+}
+
+int run_bench(const BenchOptions& o) {
+  Eigen::setNbThreads(1);
+  rl::PpoConfig cfg = rl::paper_ppo_config();
+  cfg.n_steps = o.n_steps;
+  cfg.actor_hidden = cfg.critic_hidden = {o.hidden, o.hidden, o.hidden};
+  const int samples = o.n_envs * o.n_steps;
+
+  std::printf("PPO iteration benchmark (one thread, float32, Eigen %d.%d.%d, SIMD: %s)\n",
+              EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION,
+              Eigen::SimdInstructionSetsInUse());
+  std::printf("  %d envs x %d steps = %d samples, obs 6, act 1, actor/critic [%d, %d, %d], "
+              "batch %d, %d epochs\n",
+              o.n_envs, o.n_steps, samples, o.hidden, o.hidden, o.hidden, cfg.batch_size,
+              cfg.n_epochs);
+
+  rl::Rng rng(2024);
+  rl::ActorCritic model(6, 1, cfg.actor_hidden, cfg.critic_hidden);
+  model.init_orthogonal(rng);
+  std::printf("  parameters: %lld (actor %lld, critic %lld, log_std %lld)\n",
+              static_cast<long long>(model.num_params()),
+              static_cast<long long>(model.actor().num_params()),
+              static_cast<long long>(model.critic().num_params()),
+              static_cast<long long>(model.log_std().size()));
+
+  // target_kl disabled: all epochs run.
+  cfg.target_kl.reset();
+  rl::Adam adam = rl::make_adam(cfg);
+  run_iteration(model, adam, cfg, o.n_envs, rng);  // warm-up (allocations, page faults)
+  std::vector<double> total, rollout, update, cpu;
+  for (int r = 0; r < o.reps; ++r) {
+    const IterationTimes t = run_iteration(model, adam, cfg, o.n_envs, rng);
+    total.push_back(t.total());
+    cpu.push_back(t.cpu);
+    rollout.push_back(t.rollout);
+    update.push_back(t.update);
+  }
+  const double flops = iteration_flops(model, samples, cfg.n_epochs);
+  const double med = median(total);
+  std::printf("\n  target_kl off (all %d epochs), median of %d:\n", cfg.n_epochs, o.reps);
+  std::printf("    iteration      %.3f s   (rollout forwards %.3f s, update %.3f s)\n", med,
+              median(rollout), median(update));
+  std::printf("    thread CPU     %.3f s\n", median(cpu));
+  std::printf("    GEMM work      %.1f GFLOP  ->  %.1f GFLOP/s (wall), %.1f GFLOP/s (CPU time)\n",
+              flops * 1e-9, flops * 1e-9 / med, flops * 1e-9 / median(cpu));
+  std::printf("    goal 0.8 s:    %s (needs %.0f GFLOP/s)\n", med <= 0.8 ? "met" : "NOT met",
+              flops * 1e-9 / 0.8);
+
+  if (o.with_kl) {
+    cfg.target_kl = 0.02;
+    rl::Rng rng_kl(7);
+    rl::ActorCritic fresh(6, 1, cfg.actor_hidden, cfg.critic_hidden);
+    fresh.init_orthogonal(rng_kl);
+    rl::Adam adam_kl = rl::make_adam(cfg);
+    const IterationTimes t = run_iteration(fresh, adam_kl, cfg, o.n_envs, rng_kl);
+    std::printf("\n  target_kl 0.02 (fresh policy, synthetic rewards), one run:\n");
+    std::printf("    iteration      %.3f s   (%d epochs started, %d minibatches applied%s)\n",
+                t.total(), t.stats.epochs_done, t.stats.minibatches_applied,
+                t.stats.early_stopped ? ", KL early stop" : "");
+  }
+
+  // Baselines on the dominant shape: a hidden layer GEMM of one minibatch (512 x 512 x 256).
+  const int m = o.hidden, k = o.hidden, n = cfg.batch_size;
+  Eigen::MatrixXf a = Eigen::MatrixXf::Random(m, k), b = Eigen::MatrixXf::Random(k, n);
+  Eigen::MatrixXf c(m, n);
+  const double gemm_flops = 2.0 * m * k * n;
+  std::vector<double> te, tn;
+  for (int r = 0; r < 5; ++r) {
+    auto t0 = Clock::now();
+    c.noalias() = a * b;
+    te.push_back(seconds_since(t0));
+  }
+  const float check = c(0, 0);
+  for (int r = 0; r < 3; ++r) {
+    auto t0 = Clock::now();
+    naive_gemm(a, b, c);
+    tn.push_back(seconds_since(t0));
+  }
+  const double ge = gemm_flops / median(te) * 1e-9, gn = gemm_flops / median(tn) * 1e-9;
+  const double peak = peak_fma_gflops();
+  std::printf("\n  ceiling: measured fp32 FMA peak of this core %.1f GFLOP/s -> an iteration "
+              "needs >= %.2f s\n",
+              peak, flops * 1e-9 / peak);
+  std::printf("\n  baseline, GEMM %d x %d x %d:\n", m, k, n);
+  std::printf("    Eigen          %.1f GFLOP/s (%.0f%% of peak; at this rate an iteration is "
+              "%.2f s of pure GEMM)\n",
+              ge, 100 * ge / peak, flops * 1e-9 / ge);
+  std::printf("    naive loops    %.1f GFLOP/s   -> Eigen is %.1fx faster%s\n", gn, ge / gn,
+              std::abs(c(0, 0) - check) < 1e-3f * (1 + std::abs(check)) ? "" : " (MISMATCH!)");
+
+  const double f32 = minibatch_pass_seconds<float>(o.hidden, cfg.batch_size, 5);
+  const double f64 = minibatch_pass_seconds<double>(o.hidden, cfg.batch_size, 5);
+  std::printf("  baseline, one minibatch loss + gradient (both nets, batch %d):\n",
+              cfg.batch_size);
+  std::printf("    float32 %.2f ms, float64 %.2f ms  -> float32 is %.2fx faster\n", f32 * 1e3,
+              f64 * 1e3, f64 / f32);
+  return 0;
+}
+
+}  // namespace
+
+void add_bench_ppo_command(CLI::App& bench, Runner& run) {
+  auto opts = std::make_shared<BenchOptions>();
+  CLI::App* cmd = bench.add_subcommand(
+      "ppo", "Wall time of one PPO iteration at the paper's sizes (one thread), GFLOP/s");
+  cmd->add_option("--reps", opts->reps, "Timed repetitions (median reported)")
+      ->check(CLI::Range(1, 100));
+  cmd->add_option("--envs", opts->n_envs, "Parallel environments")->check(CLI::Range(1, 4096));
+  cmd->add_option("--steps", opts->n_steps, "Steps per environment per rollout")
+      ->check(CLI::Range(1, 100000));
+  cmd->add_option("--hidden", opts->hidden, "Width of each of the three hidden layers")
+      ->check(CLI::Range(1, 8192));
+  cmd->add_flag("!--no-kl-run", opts->with_kl, "Skip the extra run with target_kl 0.02");
+  cmd->callback([opts, &run] { run = [opts] { return run_bench(*opts); }; });
+}
+
+}  // namespace codesign::app
