@@ -1,5 +1,7 @@
 #include "fem/box_mesh.hpp"
 
+#include <Eigen/Dense>
+
 #include <stdexcept>
 
 namespace codesign::fem {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 
@@ -33,21 +34,53 @@ Eigen::Matrix3d deformation_gradient(const TetRest& rest, const std::array<Eigen
 }
 
 Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& F, const Eigen::Matrix3d& guess) {
-  // Maximise tr(Rᵀ F) over rotations: at the optimum Σ_i r_i × f_i = 0 (r_i, f_i columns).
-  // Each iteration turns R about ω = Σ r_i × f_i / (|Σ r_i·f_i| + ε) (Müller et al. 2016).
+  // Find R with Rᵀ F symmetric. With A = Rᵀ F, a = axial(skew A) and R ← R exp([ω]×), the
+  // linearised condition skew(A) = ½ [(tr A · I − sym A) ω]× gives the Newton step
+  //   ω = 2 (tr A · I − sym A)⁻¹ a       (quadratic convergence from a warm start);
+  // where that matrix is not positive definite (far from the solution) the step of Müller et
+  // al. (2016), ω = 2a / |tr A|, is taken instead (globally robust, linear convergence).
   Eigen::Quaterniond q(guess);
   q.normalize();
-  for (int it = 0; it < 40; ++it) {
-    const Eigen::Matrix3d R = q.toRotationMatrix();
-    const Eigen::Vector3d num = R.col(0).cross(F.col(0)) + R.col(1).cross(F.col(1)) + R.col(2).cross(F.col(2));
-    const double den = std::abs(R.col(0).dot(F.col(0)) + R.col(1).dot(F.col(1)) + R.col(2).dot(F.col(2))) + 1e-300;
-    const Eigen::Vector3d w = num / den;
-    const double angle = w.norm();
-    if (!(angle > 1e-13)) break;  // also stops on NaN
-    q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, w / angle)) * q;
+  Eigen::Matrix3d R = q.toRotationMatrix();
+  for (int it = 0; it < 60; ++it) {
+    const Eigen::Matrix3d A = R.transpose() * F;
+    const Eigen::Vector3d a(0.5 * (A(2, 1) - A(1, 2)), 0.5 * (A(0, 2) - A(2, 0)), 0.5 * (A(1, 0) - A(0, 1)));
+    const double tr = A.trace();
+    const Eigen::Matrix3d M = tr * Eigen::Matrix3d::Identity() - 0.5 * (A + A.transpose());
+    // Solve M w = 2a by cofactors (M symmetric); Sylvester's criterion decides definiteness.
+    const double c00 = M(1, 1) * M(2, 2) - M(1, 2) * M(1, 2);
+    const double c01 = M(0, 2) * M(1, 2) - M(0, 1) * M(2, 2);
+    const double c02 = M(0, 1) * M(1, 2) - M(0, 2) * M(1, 1);
+    const double det = M(0, 0) * c00 + M(0, 1) * c01 + M(0, 2) * c02;
+    const double minor2 = M(0, 0) * M(1, 1) - M(0, 1) * M(0, 1);
+    Eigen::Vector3d w;
+    if (M(0, 0) > 0.0 && minor2 > 0.0 && det > 0.0) {
+      const double c11 = M(0, 0) * M(2, 2) - M(0, 2) * M(0, 2);
+      const double c12 = M(0, 2) * M(0, 1) - M(0, 0) * M(1, 2);
+      const double c22 = minor2;
+      const double s2 = 2.0 / det;
+      w << s2 * (c00 * a[0] + c01 * a[1] + c02 * a[2]), s2 * (c01 * a[0] + c11 * a[1] + c12 * a[2]),
+          s2 * (c02 * a[0] + c12 * a[1] + c22 * a[2]);
+    } else {
+      w = (2.0 / (std::abs(tr) + 1e-300)) * a;
+    }
+    const double angle2 = w.squaredNorm();
+    if (!(angle2 > 1e-28)) break;  // converged (|ω| < 1e-14 rad); also stops on NaN
+    Eigen::Quaterniond dq;
+    if (angle2 < 1e-6) {
+      // Small turn: cos(x/2) and sin(x/2)/x by their Taylor series (error < 1e-19).
+      dq.w() = 1.0 - angle2 / 8.0;
+      dq.vec() = (0.5 - angle2 / 48.0) * w;
+    } else {
+      const double angle = std::sqrt(angle2);
+      dq.w() = std::cos(0.5 * angle);
+      dq.vec() = (std::sin(0.5 * angle) / angle) * w;
+    }
+    q = q * dq;  // R exp([ω]×): the correction is in the element frame
     q.normalize();
+    R = q.toRotationMatrix();
   }
-  return q.toRotationMatrix();
+  return R;
 }
 
 Eigen::Matrix3d polar_rotation_svd(const Eigen::Matrix3d& F) {

@@ -11,7 +11,7 @@
 // K_e is the SOFA-style co-rotational tangent: it drops the derivative of R, so it equals the
 // exact Hessian of W only at rigidly rotated (strain-free) states and differs by O(‖ε‖·‖K0‖)
 // otherwise. The rotation is the polar factor (not SOFA's QR variant), computed by a warm-started
-// quaternion iteration that converges to the polar rotation (see polar_rotation()).
+// warm-started Newton iteration that converges to the polar rotation (see polar_rotation()).
 #include <array>
 
 #include <Eigen/Core>
@@ -35,10 +35,10 @@ TetRest make_tet_rest(const std::array<Eigen::Vector3d, 4>& X);
 // F = Ds Dm⁻¹ of the current positions.
 Eigen::Matrix3d deformation_gradient(const TetRest& rest, const std::array<Eigen::Vector3d, 4>& x);
 
-// Rotation part of the polar decomposition F = R S (det F > 0 assumed), computed by the
-// quaternion iteration of Müller et al. (2016) warm-started from `guess` (pass the previous
-// step's rotation; identity is fine). Iterates until the update angle is below 1e-13 rad or
-// 40 iterations. For det F ≤ 0 the result is a rotation but not a polar factor.
+// Rotation part of the polar decomposition F = R S (det F > 0 assumed): Newton iteration on
+// the symmetry of Rᵀ F, warm-started from `guess` (pass the previous step's rotation; identity
+// is fine), with a Müller et al. (2016) step where Newton's matrix is indefinite. Iterates until
+// the update is below 1e-14 rad (60 iterations at most).
 Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& F, const Eigen::Matrix3d& guess);
 // Reference implementation through the SVD (used by tests).
 Eigen::Matrix3d polar_rotation_svd(const Eigen::Matrix3d& F);

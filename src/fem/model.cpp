@@ -1,5 +1,7 @@
 #include "fem/model.hpp"
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <map>
 #include <set>

@@ -1,5 +1,7 @@
 #include "fem/pressure.hpp"
 
+#include <Eigen/Dense>
+
 namespace codesign::fem {
 
 void add_pressure_forces(const TetMesh& mesh, const Eigen::VectorXd& x,

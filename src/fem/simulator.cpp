@@ -1,5 +1,7 @@
 #include "fem/simulator.hpp"
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -29,8 +31,10 @@ struct Reference {
   CholmodFactor factor;
   double theta_ref = 0.0;
   double dt = 0.0;
-  // A_ref⁻¹ e for unit loads in world x and z at every contact candidate (free-DOF vectors).
+  // A_ref⁻¹ e for unit loads along the reference frame's x and z at contact candidates
+  // (free-DOF vectors), computed on first use (has_cols) and kept until the next factorisation.
   Eigen::MatrixXd cols_x, cols_z;
+  std::vector<char> has_cols;
   bool valid = false;
 };
 
@@ -57,7 +61,6 @@ struct Simulator::Impl {
   std::vector<char> was_active;  // per contact candidate
   bool broken = false;
   int factorisations = 0;
-  int steps_since_check = 0;
 
   // Exact machinery (also used to build references).
   std::optional<SystemMatrix> A;
@@ -101,7 +104,6 @@ struct Simulator::Impl {
     was_active.assign(model->contact_nodes.size(), 0);
     broken = false;
     use_cur = false;
-    steps_since_check = 0;
   }
 
   double plate_at(double time) const {
@@ -111,8 +113,10 @@ struct Simulator::Impl {
   // ---------------------------------------------------------------- forces
   // Total force at x (elastic + fibres + gravity + pressure) into f; rotations updated.
   // Returns false (with status) if an element is inverted or the state is not finite.
-  StepStatus force_pass(const Eigen::VectorXd& xx, Eigen::VectorXd& ff, std::string& why) {
+  StepStatus force_pass(const Eigen::VectorXd& xx, Eigen::VectorXd& ff, std::string& why,
+                        const Eigen::VectorXd* u = nullptr, Eigen::VectorXd* ku = nullptr) {
     ff.setZero(3 * n);
+    if (u) ku->setZero(3 * n);
     const auto& tets = model->mesh.tets;
     for (std::size_t e = 0; e < tets.size(); ++e) {
       const Tet& tt = tets[e];
@@ -128,7 +132,14 @@ struct Simulator::Impl {
       rot[e] = polar_rotation(F, rot[e]);
       const Vec12 fe = corotated_force(model->rest[e], F, rot[e], mu, lambda);
       for (int a = 0; a < 4; ++a) ff.segment<3>(3 * tt[a]) += fe.segment<3>(3 * a);
+      if (u) {  // fused product K_e u_e while the element is in cache
+        Vec12 ue;
+        for (int a = 0; a < 4; ++a) ue.segment<3>(3 * a) = u->segment<3>(3 * tt[a]);
+        const Vec12 ye = corotated_stiffness_times(model->rest[e], rot[e], ue, mu, lambda);
+        for (int a = 0; a < 4; ++a) ku->segment<3>(3 * tt[a]) += ye.segment<3>(3 * a);
+      }
     }
+    if (u) add_fibre_K(xx, *u, *ku);
     for (const FibreSpring& s : model->fibres) {
       const Eigen::Vector3d d = embedded_position(model->mesh, s.a, xx) - embedded_position(model->mesh, s.b, xx);
       const double len = d.norm();
@@ -156,8 +167,12 @@ struct Simulator::Impl {
       const Vec12 ye = corotated_stiffness_times(model->rest[e], rot[e], ue, mu, lambda);
       for (int a = 0; a < 4; ++a) y.segment<3>(3 * tt[a]) += ye.segment<3>(3 * a);
     }
+    add_fibre_K(x, u, y);
+  }
+
+  void add_fibre_K(const Eigen::VectorXd& xx, const Eigen::VectorXd& u, Eigen::VectorXd& y) const {
     for (const FibreSpring& s : model->fibres) {
-      const Eigen::Matrix3d kt = fibre_tangent(*model, s, x);
+      const Eigen::Matrix3d kt = fibre_tangent(*model, s, xx);
       if (kt.isZero(0.0)) continue;
       const Eigen::Vector3d du = embedded_position(model->mesh, s.a, u) - embedded_position(model->mesh, s.b, u);
       const Eigen::Vector3d fa = kt * du;
@@ -212,17 +227,26 @@ struct Simulator::Impl {
     ref.theta_ref = theta;
     ref.dt = dt;
     const int m = static_cast<int>(model->contact_nodes.size());
-    Eigen::MatrixXd B = Eigen::MatrixXd::Zero(3 * nfree, 2 * m);
-    for (int c = 0; c < m; ++c) {
-      const int k = free_index[model->contact_nodes[c]];
-      B(3 * k + 0, c) = 1.0;
-      B(3 * k + 2, m + c) = 1.0;
-    }
-    Eigen::MatrixXd X;
-    ref.factor.solve(B, X);
-    ref.cols_x = X.leftCols(m);
-    ref.cols_z = X.rightCols(m);
-    return X.allFinite();
+    ref.cols_x.resize(3 * nfree, m);
+    ref.cols_z.resize(3 * nfree, m);
+    ref.has_cols.assign(m, 0);
+    return true;
+  }
+
+  // Makes sure the reference columns of candidate c exist.
+  bool ensure_columns(Reference& ref, int c) {
+    if (ref.has_cols[c]) return true;
+    const int k = free_index[model->contact_nodes[c]];
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(3 * nfree), y(3 * nfree);
+    e[3 * k + 0] = 1.0;
+    ref.factor.solve(e.data(), y.data());
+    ref.cols_x.col(c) = y;
+    e[3 * k + 0] = 0.0;
+    e[3 * k + 2] = 1.0;
+    ref.factor.solve(e.data(), y.data());
+    ref.cols_z.col(c) = y;
+    ref.has_cols[c] = 1;
+    return ref.cols_x.col(c).allFinite() && ref.cols_z.col(c).allFinite();
   }
 
   Reference& reference() { return use_cur ? cur_ref : rest_ref; }
@@ -262,87 +286,56 @@ struct Simulator::Impl {
     const double t_new = dynamic ? t + dt : t;
     const double plate_new = plate_override ? *plate_override : plate_at(t_new);
 
-    StepResult res;
     std::string why;
-    const StepStatus fs = force_pass(x, f, why);
-    if (fs != StepStatus::Ok) return fail(fs, why);
-
-    // Guess: free nodes keep their velocity (dynamic) or rest (static); base nodes prescribed.
+    // Guess: free nodes keep their velocity (dynamic) or rest (static); base nodes prescribed;
+    // (fast) contact nodes active in the last step land on the plate.
     const Eigen::Matrix3d Gb = base_rotation(theta_new);
     Eigen::VectorXd vg = dynamic ? v : Eigen::VectorXd::Zero(3 * n);
-    for (int b : model->base_nodes)
-      vg.segment<3>(3 * b) = (Gb * model->rest_positions.segment<3>(3 * b) - x.segment<3>(3 * b)) / dt;
+    for (int bn : model->base_nodes)
+      vg.segment<3>(3 * bn) = (Gb * model->rest_positions.segment<3>(3 * bn) - x.segment<3>(3 * bn)) / dt;
+    const bool exact = solver.method == StepMethod::Exact || !dynamic;
+    if (!exact)
+      for (std::size_t c = 0; c < model->contact_nodes.size(); ++c)
+        if (was_active[c]) vg[3 * model->contact_nodes[c] + 2] = (plate_new - x[3 * model->contact_nodes[c] + 2]) / dt;
+    Eigen::VectorXd kv;
+    const StepStatus fs = exact ? force_pass(x, f, why) : force_pass(x, f, why, &vg, &kv);
+    if (fs != StepStatus::Ok) return fail(fs, why);
     double c_m, c_k;
     coefficients(dt, c_m, c_k);
-    // b = M v + dt f, residual r = b − A vg on the free DOFs.
-    Eigen::VectorXd av;
-    apply_A(vg, c_m, c_k, av);
-    Eigen::VectorXd rall = dt * f - av;
+    // Right-hand side b = M v + dt f (all DOFs).
+    Eigen::VectorXd b = dt * f;
     if (dynamic)
-      for (int i = 0; i < n; ++i) rall.segment<3>(3 * i) += model->lumped_mass[i] * v.segment<3>(3 * i);
-    Eigen::VectorXd r;
-    gather(rall, r);
-    Eigen::VectorXd dv;
-    const bool exact = solver.method == StepMethod::Exact || !dynamic;
-    if (exact) {
-      if (!build_exact(dt)) return fail(StepStatus::SolverFailure, "CHOLMOD factorisation failed (matrix not positive definite)");
-      dv.resize(r.size());
-      exact_factor.solve(r.data(), dv.data());
-      res.iterations = 1;
-      res.refactorised = true;
-    } else {
-      if (!rest_ref.valid) {
-        // The rest reference is built at the reset placement (θ = 0, undeformed).
-        const Eigen::VectorXd xs = x;
-        const auto rs = rot;
-        const Eigen::Matrix3d G0 = base_rotation(0.0);
-        for (int i = 0; i < n; ++i) x.segment<3>(3 * i) = G0 * model->rest_positions.segment<3>(3 * i);
-        std::fill(rot.begin(), rot.end(), G0);
-        const double th = theta;
-        theta = 0.0;
-        const bool ok = build_reference(rest_ref, dt);
-        theta = th;
-        x = xs;
-        rot = rs;
-        if (!ok) return fail(StepStatus::SolverFailure, "CHOLMOD factorisation of the reference matrix failed");
-        res.refactorised = true;
-      }
-      Reference& ref = reference();
-      apply_ref_inverse(ref, r, dv);
-      res.iterations = 1;
-      const bool check = solver.fast_check_every > 0 && ++steps_since_check >= solver.fast_check_every;
-      const int iters = std::max(1, solver.fast_iterations) + (check ? 1 : 0);
-      Eigen::VectorXd dall(3 * n), adv, rr, ddv;
-      double r0 = r.norm(), rk = r0;
-      for (int it = 1; it < iters; ++it) {
-        dall.setZero();
-        scatter_add(dv, dall);
-        apply_A(dall, c_m, c_k, adv);
-        gather(adv, rr);
-        rr = r - rr;  // residual of the current dv
-        rk = rr.norm();
-        if (check && it == iters - 1) break;  // only measured, not applied
-        apply_ref_inverse(ref, rr, ddv);
-        dv += ddv;
-        ++res.iterations;
-      }
-      if (check) {
-        steps_since_check = 0;
-        const double contraction = r0 > 0.0 ? std::pow(rk / r0, 1.0 / std::max(1, solver.fast_iterations)) : 0.0;
-        if (contraction > solver.fast_refactor_residual) {
-          // Refactorise at the current state; this step is then solved with the new factor.
-          if (!build_reference(cur_ref, dt)) return fail(StepStatus::SolverFailure, "CHOLMOD refactorisation failed");
-          use_cur = true;
-          res.refactorised = true;
-          apply_ref_inverse(cur_ref, r, dv);
-        }
-      }
-    }
-    // Free velocity.
+      for (int i = 0; i < n; ++i) b.segment<3>(3 * i) += model->lumped_mass[i] * v.segment<3>(3 * i);
+    Eigen::VectorXd vnew;
+    const StepResult sr = exact ? exact_solve(vg, b, plate_new, dt, c_m, c_k, vnew)
+                                : fast_solve(vg, kv, b, plate_new, dt, c_m, c_k, vnew);
+    if (!sr.ok()) return sr;
+    // Update the state.
+    Eigen::VectorXd xnew = x + dt * vnew;
+    for (int bn : model->base_nodes) xnew.segment<3>(3 * bn) = Gb * model->rest_positions.segment<3>(3 * bn);
+    if (!xnew.allFinite() || !vnew.allFinite()) return fail(StepStatus::NonFinite, "non-finite positions or velocities");
+    x = std::move(xnew);
+    v = dynamic ? std::move(vnew) : Eigen::VectorXd::Zero(3 * n);
+    t = t_new;
+    theta = theta_new;
+    return sr;
+  }
+
+  // Exact: factorise A(x), free solve, then the contact LCP with exact Delassus columns.
+  StepResult exact_solve(const Eigen::VectorXd& vg, const Eigen::VectorXd& b, double plate_new, double dt,
+                         double c_m, double c_k, Eigen::VectorXd& vnew) {
+    StepResult res;
+    Eigen::VectorXd av, r;
+    apply_A(vg, c_m, c_k, av);
+    gather(b - av, r);
+    if (!build_exact(dt)) return fail(StepStatus::SolverFailure, "CHOLMOD factorisation failed (matrix not positive definite)");
+    Eigen::VectorXd dv(r.size());
+    exact_factor.solve(r.data(), dv.data());
+    res.iterations = 1;
+    res.refactorised = true;
     Eigen::VectorXd vfree = vg;
     scatter_add(dv, vfree);
 
-    // Contact.
     contacts.clear();
     const auto& cn = model->contact_nodes;
     const int m = static_cast<int>(cn.size());
@@ -352,29 +345,16 @@ struct Simulator::Impl {
       const double zf = x[3 * cn[c] + 2] + dt * vfree[3 * cn[c] + 2];
       if (zf - plate_new < solver.contact_margin_mm || was_active[c]) set.push_back(c), in_set[c] = 1;
     }
-    Eigen::VectorXd vnew = vfree;
+    vnew = vfree;
     std::vector<char> active_now(m, 0);
     if (!set.empty()) {
-      // Columns of A⁻¹ for a unit upward load at each node of the set (free DOFs).
-      Eigen::MatrixXd cols;
+      Eigen::MatrixXd cols;  // A⁻¹ e_z at each node of the set (free DOFs)
       Eigen::VectorXd lam;
       for (int round = 0; round < 8; ++round) {
         const int k = static_cast<int>(set.size());
-        cols.resize(3 * nfree, k);
-        if (exact) {
-          Eigen::MatrixXd B = Eigen::MatrixXd::Zero(3 * nfree, k);
-          for (int a = 0; a < k; ++a) B(3 * free_index[cn[set[a]]] + 2, a) = 1.0;
-          exact_factor.solve(B, cols);
-        } else {
-          Reference& ref = reference();
-          const Eigen::Matrix3d G = rotation_y(theta - ref.theta_ref);
-          const Eigen::Vector3d d = G.transpose() * Eigen::Vector3d::UnitZ();  // e_z in the ref frame
-          for (int a = 0; a < k; ++a) {
-            Eigen::VectorXd col = d.x() * ref.cols_x.col(set[a]) + d.z() * ref.cols_z.col(set[a]);
-            for (int q = 0; q < nfree; ++q) col.segment<3>(3 * q) = G * col.segment<3>(3 * q).eval();
-            cols.col(a) = col;
-          }
-        }
+        Eigen::MatrixXd B = Eigen::MatrixXd::Zero(3 * nfree, k);
+        for (int a = 0; a < k; ++a) B(3 * free_index[cn[set[a]]] + 2, a) = 1.0;
+        exact_factor.solve(B, cols);
         Eigen::MatrixXd D(k, k);
         Eigen::VectorXd g(k);
         std::vector<char> guess(k);
@@ -382,7 +362,7 @@ struct Simulator::Impl {
           const int node = cn[set[a]];
           g[a] = x[3 * node + 2] + dt * vfree[3 * node + 2] - plate_new;
           guess[a] = was_active[set[a]];
-          for (int b = 0; b < k; ++b) D(a, b) = dt * dt * cols(3 * free_index[node] + 2, b);
+          for (int bb = 0; bb < k; ++bb) D(a, bb) = dt * dt * cols(3 * free_index[node] + 2, bb);
         }
         D = 0.5 * (D + D.transpose()).eval();
         const LcpResult lcp = solve_contact_lcp(D, g, guess, 1e-9);
@@ -390,7 +370,7 @@ struct Simulator::Impl {
           return fail(StepStatus::ContactFailure, "contact LCP did not converge (violation " + std::to_string(lcp.max_violation) + " mm)");
         lam = lcp.lambda;
         vnew = vfree;
-        Eigen::VectorXd dvc = dt * (cols * lam);
+        const Eigen::VectorXd dvc = dt * (cols * lam);
         scatter_add(dvc, vnew);
         // Any candidate outside the set pushed through the plate? Add it and solve again.
         bool added = false;
@@ -408,15 +388,149 @@ struct Simulator::Impl {
         }
     }
     was_active = active_now;
+    return res;
+  }
 
-    // Update the state.
-    Eigen::VectorXd xnew = x + dt * vnew;
-    for (int b : model->base_nodes) xnew.segment<3>(3 * b) = Gb * model->rest_positions.segment<3>(3 * b);
-    if (!xnew.allFinite() || !vnew.allFinite()) return fail(StepStatus::NonFinite, "non-finite positions or velocities");
-    x = std::move(xnew);
-    v = dynamic ? std::move(vnew) : Eigen::VectorXd::Zero(3 * n);
-    t = t_new;
-    theta = theta_new;
+  // Fast: constrained PCG (see simulator.hpp). Active contact nodes get their vertical velocity
+  // prescribed so they land on the plate; the multiplier is the reaction at that DOF.
+  // kvg = K(x) vg from the fused force pass (saves one mat-vec in the first round).
+  StepResult fast_solve(const Eigen::VectorXd& vg, const Eigen::VectorXd& kvg, const Eigen::VectorXd& b,
+                        double plate_new, double dt, double c_m, double c_k, Eigen::VectorXd& vnew) {
+    StepResult res;
+    if (!rest_ref.valid) {
+      // Built once at the reset placement (θ = 0, undeformed), kept across reset().
+      const Eigen::VectorXd xs = x;
+      const auto rs = rot;
+      const double th = theta;
+      const Eigen::Matrix3d G0 = base_rotation(0.0);
+      for (int i = 0; i < n; ++i) x.segment<3>(3 * i) = G0 * model->rest_positions.segment<3>(3 * i);
+      std::fill(rot.begin(), rot.end(), G0);
+      theta = 0.0;
+      const bool ok = build_reference(rest_ref, dt);
+      theta = th;
+      x = xs;
+      rot = rs;
+      if (!ok) return fail(StepStatus::SolverFailure, "CHOLMOD factorisation of the reference matrix failed");
+      res.refactorised = true;
+    }
+    Reference& ref = reference();
+    const Eigen::Matrix3d G = rotation_y(theta - ref.theta_ref);
+    const Eigen::Vector3d dz = G.transpose() * Eigen::Vector3d::UnitZ();  // world e_z in the ref frame
+    const auto& cn = model->contact_nodes;
+    const int m = static_cast<int>(cn.size());
+    std::vector<char> active = was_active;
+    vnew = vg;
+    Eigen::VectorXd bf;
+    gather(b, bf);
+    const double scale = std::max(bf.norm(), 1e-300);
+    const double tol = solver.fast_tolerance * scale;
+    Eigen::VectorXd av, r, rc, z, p, q, dall(3 * n), pz;
+    int total_iterations = 0;
+    Eigen::VectorXd lam_all = Eigen::VectorXd::Zero(m);
+    for (int round = 0; round < 12; ++round) {
+      std::vector<int> act;
+      for (int c = 0; c < m; ++c)
+        if (active[c]) act.push_back(c);
+      const int k = static_cast<int>(act.size());
+      std::vector<int> crow(k);  // constrained free-DOF rows
+      for (int a = 0; a < k; ++a) {
+        crow[a] = 3 * free_index[cn[act[a]]] + 2;
+        vnew[3 * cn[act[a]] + 2] = (plate_new - x[3 * cn[act[a]] + 2]) / dt;
+      }
+      // C = P Jᵀ (free DOFs), JC = J P Jᵀ.
+      Eigen::MatrixXd C(3 * nfree, k);
+      for (int a = 0; a < k; ++a) {
+        if (!ensure_columns(ref, act[a])) return fail(StepStatus::SolverFailure, "non-finite reference solve");
+        Eigen::VectorXd col = dz.x() * ref.cols_x.col(act[a]) + dz.z() * ref.cols_z.col(act[a]);
+        for (int qq = 0; qq < nfree; ++qq) col.segment<3>(3 * qq) = G * col.segment<3>(3 * qq).eval();
+        C.col(a) = col;
+      }
+      Eigen::MatrixXd JC(k, k);
+      for (int a = 0; a < k; ++a) JC.row(a) = C.row(crow[a]);
+      const Eigen::LDLT<Eigen::MatrixXd> jc(0.5 * (JC + JC.transpose()));
+      auto precondition = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
+        apply_ref_inverse(ref, in, out);
+        if (k == 0) return;
+        Eigen::VectorXd jp(k);
+        for (int a = 0; a < k; ++a) jp[a] = out[crow[a]];
+        out -= C * jc.solve(jp);
+        for (int a = 0; a < k; ++a) out[crow[a]] = 0.0;
+      };
+      auto project = [&](Eigen::VectorXd& w) {
+        for (int a = 0; a < k; ++a) w[crow[a]] = 0.0;
+      };
+      // Residual of the current guess (unprojected: its constrained rows give the reactions).
+      if (round == 0) {
+        av = c_k * kvg;
+        for (int i = 0; i < n; ++i) av.segment<3>(3 * i) += c_m * model->lumped_mass[i] * vnew.segment<3>(3 * i);
+      } else {
+        apply_A(vnew, c_m, c_k, av);
+      }
+      gather(b - av, r);
+      rc = r;
+      project(rc);
+      Eigen::VectorXd dvf = Eigen::VectorXd::Zero(3 * nfree);
+      precondition(rc, z);
+      p = z;
+      double rz = rc.dot(z);
+      int it = 0;
+      while (rc.norm() > tol && it < solver.fast_max_iterations) {
+        dall.setZero();
+        scatter_add(p, dall);
+        apply_A(dall, c_m, c_k, av);
+        gather(av, q);
+        const double pq = p.dot(q);
+        if (!(pq > 0.0)) break;
+        const double alpha = rz / pq;
+        dvf += alpha * p;
+        r -= alpha * q;
+        rc = r;
+        project(rc);
+        precondition(rc, z);
+        const double rz_new = rc.dot(z);
+        p = z + (rz_new / rz) * p;
+        rz = rz_new;
+        ++it;
+      }
+      total_iterations += it;
+      scatter_add(dvf, vnew);
+      if (!vnew.allFinite()) return fail(StepStatus::NonFinite, "non-finite velocity in the fast solve");
+      // Multipliers: A v = b + dt Jᵀλ  ⇒  λ = −r_constrained / dt.
+      lam_all.setZero();
+      int release = -1;
+      double most_negative = 0.0;
+      for (int a = 0; a < k; ++a) {
+        lam_all[act[a]] = -r[crow[a]] / dt;
+        if (lam_all[act[a]] < most_negative) most_negative = lam_all[act[a]], release = act[a];
+      }
+      if (release >= 0) {
+        active[release] = 0;
+        continue;
+      }
+      int add = -1;
+      double deepest = -solver.contact_tolerance_mm;
+      for (int c = 0; c < m; ++c) {
+        if (active[c]) continue;
+        const double gap = x[3 * cn[c] + 2] + dt * vnew[3 * cn[c] + 2] - plate_new;
+        if (gap < deepest) deepest = gap, add = c;
+      }
+      if (add >= 0) {
+        active[add] = 1;
+        continue;
+      }
+      break;
+    }
+    contacts.clear();
+    for (int c = 0; c < m; ++c)
+      if (active[c] && lam_all[c] > 0.0) contacts.emplace_back(cn[c], lam_all[c]);
+    was_active = active;
+    res.iterations = total_iterations;
+    if (total_iterations > solver.fast_refactor_iterations) {
+      // The stored factor has drifted from the current matrix: refactorise at this state.
+      if (!build_reference(cur_ref, dt)) return fail(StepStatus::SolverFailure, "CHOLMOD refactorisation failed");
+      use_cur = true;
+      res.refactorised = true;
+    }
     return res;
   }
 };

@@ -1,5 +1,7 @@
 #include "fem/system_matrix.hpp"
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <set>
 
