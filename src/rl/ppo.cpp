@@ -168,10 +168,12 @@ PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& bu
   ActorCriticGrad grad = model.zero_grad();
   const auto blocks = model.adam_blocks(grad);
   double sum_pg = 0, sum_v = 0, sum_ent = 0, sum_kl = 0, sum_clip = 0, sum_norm = 0;
-  int n_losses = 0;
+  int n_losses = 0, n_kl = 0;
 
   for (int epoch = 0; epoch < config.n_epochs && !stats.early_stopped; ++epoch) {
     ++stats.epochs_done;
+    sum_kl = 0;  // SB3 resets approx_kl_divs every epoch: the logged value is the last epoch's
+    n_kl = 0;
     std::iota(perm.begin(), perm.end(), Eigen::Index{0});
     for (Eigen::Index i = n - 1; i > 0; --i)  // Fisher-Yates
       std::swap(perm[static_cast<std::size_t>(i)],
@@ -196,6 +198,7 @@ PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& bu
       sum_v += l.value_loss;
       sum_ent += l.entropy_loss;
       sum_kl += l.approx_kl;
+      ++n_kl;
       sum_clip += l.clip_fraction;
       ++n_losses;
       stats.loss = l.loss;
@@ -215,7 +218,7 @@ PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& bu
     stats.pg_loss = sum_pg / n_losses;
     stats.value_loss = sum_v / n_losses;
     stats.entropy_loss = sum_ent / n_losses;
-    stats.approx_kl = sum_kl / n_losses;
+    stats.approx_kl = sum_kl / n_kl;
     stats.clip_fraction = sum_clip / n_losses;
   }
   if (stats.minibatches_applied > 0) stats.grad_norm = sum_norm / stats.minibatches_applied;

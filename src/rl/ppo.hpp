@@ -64,8 +64,10 @@ double entropy_coef_at(const PpoConfig& config, std::int64_t num_timesteps);
 // Throws std::invalid_argument naming the field if a value is out of range.
 void validate(const PpoConfig& config);
 
-// Averages over the minibatches processed (as SB3 logs them), except explained_variance which is
-// over the whole buffer: 1 - Var(returns - values) / Var(returns) (NaN if Var(returns) = 0).
+// Averages over all minibatches processed (as SB3 logs them), except approx_kl, which is the mean
+// over the minibatches of the LAST epoch (SB3 resets its list every epoch), and
+// explained_variance, which is over the whole buffer: 1 - Var(returns - values) / Var(returns)
+// (NaN if Var(returns) = 0). The early-stopping minibatch is included (SB3 logs before breaking).
 struct PpoStats {
   double pg_loss = 0.0;
   double value_loss = 0.0;
