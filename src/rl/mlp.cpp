@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include <Eigen/QR>
 
@@ -67,6 +68,23 @@ Eigen::MatrixXd orthogonal(Eigen::Index rows, Eigen::Index cols, double gain, Rn
   return gain * q;
 }
 
+// dst = op(A) op(B) through the fast float32 GEMM when the shape is large enough for it to pay
+// off; returns false (caller uses Eigen) otherwise.
+template <class S>
+bool fast_product(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k, const S* a,
+                  Eigen::Index lda, const S* b, Eigen::Index ldb, S* c, Eigen::Index ldc,
+                  GemmWorkspace& ws) {
+  if constexpr (std::is_same_v<S, float>) {
+    if (fast_gemm_available() && m >= 64 && n >= 32 && k >= 32) {
+      sgemm(ta, tb, m, n, k, a, lda, b, ldb, c, ldc, ws);
+      return true;
+    }
+  }
+  (void)ta, (void)tb, (void)m, (void)n, (void)k, (void)a, (void)lda, (void)b, (void)ldb, (void)c,
+      (void)ldc, (void)ws;
+  return false;
+}
+
 }  // namespace
 
 template <class S>
@@ -89,7 +107,11 @@ const typename MlpT<S>::Mat& MlpT<S>::forward(const Eigen::Ref<const Mat>& x, Ca
   for (int l = 1; l <= L; ++l) {
     Mat& out = cache.a[l];
     out.resize(sizes_[l], x.cols());
-    out.noalias() = weight(l) * cache.a[l - 1];
+    const Mat& in = cache.a[l - 1];
+    if (!fast_product<S>(false, false, out.rows(), out.cols(), in.rows(),
+                         params_.data() + offsets_[l - 1], out.rows(), in.data(), in.rows(),
+                         out.data(), out.rows(), cache.gemm))
+      out.noalias() = weight(l) * in;
     out.colwise() += bias(l);
     if (l < L) out.array() = out.array().tanh();
   }
@@ -114,13 +136,21 @@ void MlpT<S>::backward(Cache& cache, const Eigen::Ref<const Mat>& d_out, Eigen::
     const Mat& below = cache.a[l - 1];
     MatMap g_w(grad.data() + offsets_[l - 1], sizes_[l], sizes_[l - 1]);
     VecMap g_b(grad.data() + bias_offset(l), sizes_[l]);
-    g_w.noalias() = cache.delta * below.transpose();
+    if (!fast_product<S>(false, true, g_w.rows(), g_w.cols(), below.cols(), cache.delta.data(),
+                         cache.delta.rows(), below.data(), below.rows(), g_w.data(), g_w.rows(),
+                         cache.gemm))
+      g_w.noalias() = cache.delta * below.transpose();
     // Bias gradient = row sums of delta, as a GEMV with a ones vector (vectorised; a rowwise
     // sum of a column-major matrix walks rows with a stride).
     if (cache.ones.size() != cache.delta.cols()) cache.ones = Vec::Ones(cache.delta.cols());
     g_b.noalias() = cache.delta * cache.ones;
     if (l > 1) {
-      cache.delta_prev.noalias() = weight(l).transpose() * cache.delta;
+      cache.delta_prev.resize(sizes_[l - 1], cache.delta.cols());
+      if (!fast_product<S>(true, false, sizes_[l - 1], cache.delta.cols(), sizes_[l],
+                           params_.data() + offsets_[l - 1], sizes_[l], cache.delta.data(),
+                           cache.delta.rows(), cache.delta_prev.data(), sizes_[l - 1],
+                           cache.gemm))
+        cache.delta_prev.noalias() = weight(l).transpose() * cache.delta;
       // below = tanh(z): d tanh / dz = 1 - tanh^2
       cache.delta.resize(below.rows(), below.cols());
       cache.delta.array() = cache.delta_prev.array() * (S(1) - below.array().square());

@@ -17,6 +17,7 @@
 
 #include <Eigen/Core>
 
+#include "rl/gemm.hpp"
 #include "rl/rng.hpp"
 
 namespace codesign::rl {
@@ -39,6 +40,7 @@ class MlpT {
     Mat delta;           // backward scratch: dL/d(pre-activation) of the current layer
     Mat delta_prev;      // backward scratch: dL/d(activation) of the layer below
     Vec ones;            // backward scratch: a vector of ones (bias gradients)
+    GemmWorkspace gemm;  // packed panels of the float32 GEMM (gemm.hpp)
   };
 
   MlpT() = default;
@@ -66,6 +68,7 @@ class MlpT {
   // diag(R)), gain sqrt(2) for hidden layers and `output_gain` for the last; biases zero.
   void init_orthogonal(S output_gain, Rng& rng);
 
+  // Large float32 layers use rl::sgemm (gemm.hpp) when available, everything else Eigen.
   // Batched forward; fills cache.a and returns cache.a.back() (output_dim x B).
   const Mat& forward(const Eigen::Ref<const Mat>& x, Cache& cache) const;
   // Forward without keeping anything.
