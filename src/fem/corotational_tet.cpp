@@ -33,14 +33,15 @@ Eigen::Matrix3d deformation_gradient(const TetRest& rest, const std::array<Eigen
   return ds * rest.dm_inv;
 }
 
-Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& F, const Eigen::Matrix3d& guess) {
+Eigen::Quaterniond polar_rotation(const Eigen::Matrix3d& F, const Eigen::Quaterniond& guess, double tolerance) {
   // Find R with Rᵀ F symmetric. With A = Rᵀ F, a = axial(skew A) and R ← R exp([ω]×), the
   // linearised condition skew(A) = ½ [(tr A · I − sym A) ω]× gives the Newton step
   //   ω = 2 (tr A · I − sym A)⁻¹ a       (quadratic convergence from a warm start);
   // where that matrix is not positive definite (far from the solution) the step of Müller et
   // al. (2016), ω = 2a / |tr A|, is taken instead (globally robust, linear convergence).
-  Eigen::Quaterniond q(guess);
+  Eigen::Quaterniond q = guess;
   q.normalize();
+  const double tol2 = tolerance * tolerance;
   Eigen::Matrix3d R = q.toRotationMatrix();
   for (int it = 0; it < 60; ++it) {
     const Eigen::Matrix3d A = R.transpose() * F;
@@ -54,7 +55,8 @@ Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& F, const Eigen::Matrix3d& 
     const double det = M(0, 0) * c00 + M(0, 1) * c01 + M(0, 2) * c02;
     const double minor2 = M(0, 0) * M(1, 1) - M(0, 1) * M(0, 1);
     Eigen::Vector3d w;
-    if (M(0, 0) > 0.0 && minor2 > 0.0 && det > 0.0) {
+    const bool newton = M(0, 0) > 0.0 && minor2 > 0.0 && det > 0.0;
+    if (newton) {
       const double c11 = M(0, 0) * M(2, 2) - M(0, 2) * M(0, 2);
       const double c12 = M(0, 2) * M(0, 1) - M(0, 0) * M(1, 2);
       const double c22 = minor2;
@@ -65,7 +67,7 @@ Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& F, const Eigen::Matrix3d& 
       w = (2.0 / (std::abs(tr) + 1e-300)) * a;
     }
     const double angle2 = w.squaredNorm();
-    if (!(angle2 > 1e-28)) break;  // converged (|ω| < 1e-14 rad); also stops on NaN
+    if (!(angle2 > 1e-30)) break;  // converged; also stops on NaN
     Eigen::Quaterniond dq;
     if (angle2 < 1e-6) {
       // Small turn: cos(x/2) and sin(x/2)/x by their Taylor series (error < 1e-19).
@@ -79,8 +81,16 @@ Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& F, const Eigen::Matrix3d& 
     q = q * dq;  // R exp([ω]×): the correction is in the element frame
     q.normalize();
     R = q.toRotationMatrix();
+    // Newton converges quadratically: after a Newton step of |ω| the remaining error is
+    // O(|ω|²), so stop without another pass once |ω|² is below the tolerance.
+    if (angle2 < tolerance && newton) break;
+    if (angle2 < tol2) break;
   }
-  return R;
+  return q;
+}
+
+Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& F, const Eigen::Matrix3d& guess) {
+  return polar_rotation(F, Eigen::Quaterniond(guess), 1e-14).toRotationMatrix();
 }
 
 Eigen::Matrix3d polar_rotation_svd(const Eigen::Matrix3d& F) {
@@ -147,6 +157,23 @@ Vec12 corotated_stiffness_times(const TetRest& rest, const Eigen::Matrix3d& R, c
   Vec12 y;
   for (int a = 0; a < 4; ++a) y.segment<3>(3 * a) = rest.volume * (P * rest.grad.row(a).transpose());
   return y;
+}
+
+void corotated_force_and_product(const TetRest& rest, const Eigen::Matrix3d& F, const Eigen::Matrix3d& R,
+                                 const Vec12& u, double mu, double lambda, Vec12& force, Vec12& product) {
+  const Eigen::Matrix3d S = R.transpose() * F;
+  const Eigen::Matrix3d eps = 0.5 * (S + S.transpose()) - Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d dF = Eigen::Matrix3d::Zero();
+  for (int a = 0; a < 4; ++a) dF.noalias() += u.segment<3>(3 * a) * rest.grad.row(a);
+  const Eigen::Matrix3d L = R.transpose() * dF;
+  const Eigen::Matrix3d deps = 0.5 * (L + L.transpose());
+  const Eigen::Matrix3d Pf = (-rest.volume) * (R * stress(eps, mu, lambda));
+  const Eigen::Matrix3d Pu = rest.volume * (R * stress(deps, mu, lambda));
+  for (int a = 0; a < 4; ++a) {
+    const Eigen::Vector3d g = rest.grad.row(a).transpose();
+    force.segment<3>(3 * a) = Pf * g;
+    product.segment<3>(3 * a) = Pu * g;
+  }
 }
 
 }  // namespace codesign::fem

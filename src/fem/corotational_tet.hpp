@@ -15,6 +15,7 @@
 #include <array>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace codesign::fem {
 
@@ -37,8 +38,11 @@ Eigen::Matrix3d deformation_gradient(const TetRest& rest, const std::array<Eigen
 
 // Rotation part of the polar decomposition F = R S (det F > 0 assumed): Newton iteration on
 // the symmetry of Rᵀ F, warm-started from `guess` (pass the previous step's rotation; identity
-// is fine), with a Müller et al. (2016) step where Newton's matrix is indefinite. Iterates until
-// the update is below 1e-14 rad (60 iterations at most).
+// is fine), with a Müller et al. (2016) step where Newton's matrix is indefinite. Stops when the
+// remaining angle error is below `tolerance` [rad] (after a Newton step of size |ω| the error is
+// O(|ω|²)), or after 60 iterations.
+Eigen::Quaterniond polar_rotation(const Eigen::Matrix3d& F, const Eigen::Quaterniond& guess, double tolerance);
+// Same, converged to 1e-14 rad.
 Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& F, const Eigen::Matrix3d& guess);
 // Reference implementation through the SVD (used by tests).
 Eigen::Matrix3d polar_rotation_svd(const Eigen::Matrix3d& F);
@@ -58,5 +62,9 @@ Mat12 corotated_stiffness(const Mat12& k0, const Eigen::Matrix3d& R);
 // dF = Σ u_a ∇N_aᵀ, dε = sym(Rᵀ dF), y_a = V R (2μ dε + λ tr dε I) ∇N_a.
 Vec12 corotated_stiffness_times(const TetRest& rest, const Eigen::Matrix3d& R, const Vec12& u,
                                 double mu, double lambda);
+
+// corotated_force and corotated_stiffness_times in one pass (shares R, ∇N and the scatter).
+void corotated_force_and_product(const TetRest& rest, const Eigen::Matrix3d& F, const Eigen::Matrix3d& R,
+                                 const Vec12& u, double mu, double lambda, Vec12& force, Vec12& product);
 
 }  // namespace codesign::fem

@@ -1,0 +1,36 @@
+#include "sim_setup.hpp"
+
+#include "io/codesign_config.hpp"
+#include "io/gym_config.hpp"
+
+namespace codesign::app {
+
+SimSetup read_sim_setup(const std::string& config_path) {
+  io::TableReader root = config_path.empty() ? io::TableReader::from_string("", "(defaults)")
+                                             : io::TableReader::from_file(config_path);
+  SimSetup s;
+  s.spec.model.material = io::read_material(root);
+  const io::SceneSettings sc = io::read_scene(root);
+  s.scene = sc.scene;
+  s.spec.model.tip_region_mm = sc.tip_region_mm;
+  s.solver = io::read_solver(root);
+  {
+    io::TableReader fibres = root.table("fibres");
+    s.spec.model.fibre_axial_stiffness_uN = io::read_fibre_stiffness(fibres);
+    s.spec.fibres = fibres.boolean("enabled", true);
+    fibres.finish();
+  }
+  s.scenario = io::read_sim_scenario(root);
+  // Tables of the other commands: validated here so that one run config serves them all.
+  if (root.has("task")) (void)io::read_task_config(root);
+  if (root.has("codesign")) (void)io::read_codesign_config(root);
+  if (root.has("ppo")) {
+    io::TableReader ppo = root.table("ppo");
+    (void)io::read_ppo_config(ppo);
+    ppo.finish();
+  }
+  root.finish();
+  return s;
+}
+
+}  // namespace codesign::app

@@ -1,0 +1,26 @@
+#pragma once
+// Shared by `codesign sim` and `codesign bench fem`: everything the simulator needs, read from
+// one config file (tables of io/fem_config.hpp).
+#include <memory>
+#include <string>
+
+#include "fem/simulator.hpp"
+#include "fem/whisker_model.hpp"
+#include "io/fem_config.hpp"
+#include "io/toml_reader.hpp"
+
+namespace codesign::app {
+
+struct SimSetup {
+  fem::WhiskerModelSpec spec;
+  fem::SceneConfig scene;
+  fem::SolverConfig solver;
+  io::SimScenario scenario;
+};
+
+// Reads [material], [scene], [solver], [fibres] (stiffness), [sim] from `root`, and validates
+// the other known tables of a run config ([task], [codesign], [ppo]) so one file serves all
+// commands; then root.finish() (unknown tables/keys are errors). An empty path gives defaults.
+SimSetup read_sim_setup(const std::string& config_path);
+
+}  // namespace codesign::app

@@ -1,0 +1,23 @@
+#pragma once
+// One call from a design index to a simulation-ready Model: geometry → gmsh mesh → model
+// (mass, stiffness, boundary sets, fibre springs).
+#include <memory>
+
+#include "fem/model.hpp"
+#include "fem/whisker_geometry.hpp"
+#include "fem/whisker_mesh.hpp"
+
+namespace codesign::fem {
+
+struct WhiskerModelSpec {
+  WhiskerGeometry geometry{};  // its `design` is replaced by the design index given
+  MeshOptions mesh{};
+  ModelOptions model{};        // fibre_polylines are ignored (taken from the fibre layout)
+  bool fibres = true;          // helical fibre springs around the chamber region
+};
+
+// Throws std::out_of_range for a bad index and std::invalid_argument / std::runtime_error when
+// the geometry cannot be meshed.
+std::shared_ptr<const Model> build_whisker_model(int design_index, const WhiskerModelSpec& spec);
+
+}  // namespace codesign::fem

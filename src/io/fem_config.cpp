@@ -1,0 +1,72 @@
+#include "io/fem_config.hpp"
+
+#include <numbers>
+
+namespace codesign::io {
+
+fem::Material read_material(TableReader& root) {
+  TableReader t = root.table("material");
+  fem::Material m;
+  m.youngs_modulus_Pa = 1e3 * t.number("youngs_modulus_kPa", 1e-3 * m.youngs_modulus_Pa, 1.0, 1e5);
+  m.poisson_ratio = t.number("poisson_ratio", m.poisson_ratio, 0.0, 0.49);
+  m.total_mass_g = t.number("total_mass_g", m.total_mass_g, 1e-3, 1e4);
+  m.gravity_mm_s2 = t.number("gravity_mm_s2", m.gravity_mm_s2, 0.0, 1e5);
+  m.rayleigh_mass_per_s = t.number("rayleigh_mass_per_s", m.rayleigh_mass_per_s, 0.0, 1e3);
+  m.rayleigh_stiffness_s = t.number("rayleigh_stiffness_s", m.rayleigh_stiffness_s, 0.0, 1.0);
+  t.finish();
+  return m;
+}
+
+SceneSettings read_scene(TableReader& root) {
+  TableReader t = root.table("scene");
+  SceneSettings s;
+  fem::SceneConfig& c = s.scene;
+  c.inclination_deg = t.number("inclination_deg", c.inclination_deg, 0.0, 80.0);
+  c.preload_mm = t.number("preload_mm", c.preload_mm, 0.0, 30.0);
+  c.plate_amplitude_mm = t.number("plate_amplitude_mm", c.plate_amplitude_mm, 0.0, 20.0);
+  c.plate_frequency_Hz = t.number("plate_frequency_Hz", c.plate_frequency_Hz, 0.0, 20.0);
+  c.plate_phase_rad = t.number("plate_phase_deg", c.plate_phase_rad * 180.0 / std::numbers::pi, -360.0, 360.0) *
+                      std::numbers::pi / 180.0;
+  c.theta_limit_deg = t.number("theta_limit_deg", c.theta_limit_deg, 0.1, 90.0);
+  c.settle_steps = static_cast<int>(t.integer("settle_steps", c.settle_steps, 1, 1000));
+  s.tip_region_mm = t.number("tip_region_mm", s.tip_region_mm, 0.1, 50.0);
+  t.finish();
+  return s;
+}
+
+fem::SolverConfig read_solver(TableReader& root) {
+  TableReader t = root.table("solver");
+  fem::SolverConfig c;
+  const std::string method = t.string("method", "fast", {"fast", "exact"});
+  c.method = method == "exact" ? fem::StepMethod::Exact : fem::StepMethod::Fast;
+  c.dt_s = t.number("dt_s", c.dt_s, 1e-5, 0.1);
+  c.static_dt_s = t.number("static_dt_s", c.static_dt_s, 1e-3, 100.0);
+  c.fast_tolerance = t.number("fast_tolerance", c.fast_tolerance, 1e-12, 0.1);
+  c.fast_max_iterations = static_cast<int>(t.integer("fast_max_iterations", c.fast_max_iterations, 1, 1000));
+  c.fast_refactor_iterations =
+      static_cast<int>(t.integer("fast_refactor_iterations", c.fast_refactor_iterations, 1, 1000));
+  c.contact_tolerance_mm = t.number("contact_tolerance_mm", c.contact_tolerance_mm, 1e-9, 0.1);
+  c.contact_margin_mm = t.number("contact_margin_mm", c.contact_margin_mm, 0.0, 10.0);
+  t.finish();
+  return c;
+}
+
+double read_fibre_stiffness(TableReader& fibres) {
+  return 1e6 * fibres.number("axial_stiffness_N", 50.0, 0.0, 1e4);
+}
+
+SimScenario read_sim_scenario(TableReader& root) {
+  TableReader t = root.table("sim");
+  SimScenario s;
+  s.design = static_cast<int>(t.integer("design", s.design, 0, 109));
+  s.pressures_kPa = t.numbers("pressures_kPa", s.pressures_kPa, 0.0, 20.0, 1, 2);
+  if (s.pressures_kPa.size() == 1) s.pressures_kPa.push_back(0.0);
+  s.theta_deg = t.numbers("theta_deg", s.theta_deg, -90.0, 90.0, 1, 100000);
+  s.theta_hold_steps = static_cast<int>(t.integer("theta_hold_steps", s.theta_hold_steps, 1, 100000));
+  s.steps = static_cast<int>(t.integer("steps", s.steps, 1, 10'000'000));
+  s.vtk_every = static_cast<int>(t.integer("vtk_every", s.vtk_every, 0, 10'000'000));
+  t.finish();
+  return s;
+}
+
+}  // namespace codesign::io
