@@ -3,13 +3,13 @@
 // Runs the open-loop scenario of [sim]: design j, chamber pressures, a θ schedule and the
 // plate motion of [scene], for [sim].steps steps after the quasi-static settling. Writes
 //   DIR/trace.csv   t, theta (rad), F_mN, eps, tip_x, tip_y, tip_z (mm, world), plate_z, status
-//   DIR/frame_NNNNNN.vtk  legacy-VTK frames of the deformed body every N steps (N > 0)
+//   DIR/frame_NNNNNN.vtu  ParaView frames of the deformed body (world positions, axial strain
+//                         per tet) every N steps (N > 0), and after settling (000000)
 // A numerical failure ends the scenario early: its row carries the status and the reason is
 // printed; the exit code is then 3. Existing results in DIR are kept unless --force.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -17,6 +17,7 @@
 #include "commands.hpp"
 #include "io/csv_writer.hpp"
 #include "io/errors.hpp"
+#include "io/vtk.hpp"
 #include "sim_setup.hpp"
 
 namespace codesign::app {
@@ -32,29 +33,16 @@ struct SimOptions {
   bool force = false;
 };
 
-// Minimal legacy-VTK writer for one frame (positions in world mm, tets; F and θ as field data).
+// One ParaView frame: the body at its world positions (rest + displacement), with the axial
+// strain per tet.
 void write_vtk_frame(const fs::path& file, const fem::Simulator& sim) {
   const fem::Model& m = sim.model();
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream o(tmp);
-    o << "# vtk DataFile Version 3.0\ncodesign whisker t=" << sim.time() << "\nASCII\nDATASET UNSTRUCTURED_GRID\n";
-    o << "POINTS " << m.node_count() << " double\n";
-    const auto& x = sim.positions();
-    for (int i = 0; i < m.node_count(); ++i) o << x[3 * i] << ' ' << x[3 * i + 1] << ' ' << x[3 * i + 2] << '\n';
-    const std::size_t nt = m.mesh.tets.size();
-    o << "CELLS " << nt << ' ' << 5 * nt << '\n';
-    for (const auto& t : m.mesh.tets) o << "4 " << t[0] << ' ' << t[1] << ' ' << t[2] << ' ' << t[3] << '\n';
-    o << "CELL_TYPES " << nt << '\n';
-    for (std::size_t e = 0; e < nt; ++e) o << "10\n";
-    o << "POINT_DATA " << m.node_count() << "\nVECTORS displacement double\n";
-    for (int i = 0; i < m.node_count(); ++i) {
-      const Eigen::Vector3d u = x.segment<3>(3 * i) - m.rest_positions.segment<3>(3 * i);
-      o << u.x() << ' ' << u.y() << ' ' << u.z() << '\n';
-    }
-    if (!o) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, file);
+  io::VtkFields fields;
+  fields.displacement.resize(m.node_count());
+  for (int i = 0; i < m.node_count(); ++i)
+    fields.displacement[i] = sim.positions().segment<3>(3 * i) - m.rest_positions.segment<3>(3 * i);
+  fields.cell_scalars.push_back({"axial_strain", sim.element_axial_strain()});
+  io::write_vtu_file(file.string(), m.mesh, fields);
 }
 
 int run_sim(const SimOptions& opt) {
@@ -85,7 +73,7 @@ int run_sim(const SimOptions& opt) {
   fem::StepResult r = sim.settle();
   record(r);
   int frame = 0;
-  if (vtk_every > 0 && r.ok()) write_vtk_frame(dir / "frame_000000.vtk", sim);
+  if (vtk_every > 0 && r.ok()) write_vtk_frame(dir / "frame_000000.vtu", sim);
   int k = 0;
   for (; k < sc.steps && r.ok(); ++k) {
     if (k % sc.theta_hold_steps == 0) {
@@ -96,7 +84,7 @@ int run_sim(const SimOptions& opt) {
     record(r);
     if (vtk_every > 0 && r.ok() && (k + 1) % vtk_every == 0) {
       char name[32];
-      std::snprintf(name, sizeof name, "frame_%06d.vtk", ++frame);
+      std::snprintf(name, sizeof name, "frame_%06d.vtu", ++frame);
       write_vtk_frame(dir / name, sim);
     }
   }

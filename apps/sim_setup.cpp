@@ -2,6 +2,7 @@
 
 #include "io/codesign_config.hpp"
 #include "io/gym_config.hpp"
+#include "io/mesh_config.hpp"
 
 namespace codesign::app {
 
@@ -14,10 +15,14 @@ SimSetup read_sim_setup(const std::string& config_path) {
   s.scene = sc.scene;
   s.spec.model.tip_region_mm = sc.tip_region_mm;
   s.solver = io::read_solver(root);
+  s.spec.geometry = io::read_geometry(root);
+  s.spec.mesh = io::read_mesh_options(root);
   {
     io::TableReader fibres = root.table("fibres");
-    s.spec.model.fibre_axial_stiffness_uN = io::read_fibre_stiffness(fibres);
-    s.spec.fibres = fibres.boolean("enabled", true);
+    const io::FibreStiffness fs = io::read_fibre_stiffness(fibres);
+    s.spec.model.fibre_axial_stiffness_uN = fs.axial_stiffness_uN;
+    s.spec.model.fibres_tension_only = fs.tension_only;
+    s.spec.fibres = io::read_fibre_layout(fibres);
     fibres.finish();
   }
   s.scenario = io::read_sim_scenario(root);

@@ -18,7 +18,8 @@ struct SimSetup {
   io::SimScenario scenario;
 };
 
-// Reads [material], [scene], [solver], [fibres] (stiffness), [sim] from `root`, and validates
+// Reads [geometry], [mesh], [fibres] (layout + stiffness), [material], [scene], [solver], [sim]
+// from the file, and validates
 // the other known tables of a run config ([task], [codesign], [ppo]) so one file serves all
 // commands; then root.finish() (unknown tables/keys are errors). An empty path gives defaults.
 SimSetup read_sim_setup(const std::string& config_path);

@@ -3,10 +3,9 @@
 //
 // A point p = Σ_a w_a x_{tet[a]} (w: barycentric weights, Σ w = 1) moves with its host tet.
 // A spring between embedded points p and q has rest length ℓ0 = |p − q| at rest and stiffness k:
-//   tension-only: f = −k (ℓ − ℓ0) n on p (n = (p − q)/ℓ) when ℓ > ℓ0, nothing when slack,
-// i.e. an inextensible thread that can buckle (goes slack) under compression. The force on p is
-// spread to the host nodes with weights w (and the opposite force on q's nodes).
-// Tangent stiffness (when taut): k n nᵀ + k (1 − ℓ0/ℓ)(I − n nᵀ), mapped through the weights.
+//   f = −k (ℓ − ℓ0) n on p (n = (p − q)/ℓ); bilateral by default (SOFA-like spring chain), or
+// tension-only (nothing when slack) when the model says so (see system_matrix.hpp). The force
+// on p is spread to the host nodes with weights w (and the opposite force on q's nodes).
 #include <array>
 #include <vector>
 

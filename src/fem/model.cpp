@@ -92,6 +92,18 @@ std::shared_ptr<const Model> build_model(TetMesh mesh, const ModelOptions& optio
     }
   }
   m->fibres = make_fibre_springs(mesh, options.fibre_polylines, options.fibre_axial_stiffness_uN);
+  for (const auto& chain : options.fibre_chains)
+    for (std::size_t i = 0; i + 1 < chain.size(); ++i) {
+      for (const EmbeddedPoint* p : {&chain[i], &chain[i + 1]})
+        if (p->tet < 0 || p->tet >= static_cast<int>(mesh.tets.size()))
+          throw std::invalid_argument("build_model: fibre point embedded in a missing tet");
+      const double len = (embedded_position(mesh, chain[i], m->rest_positions) -
+                          embedded_position(mesh, chain[i + 1], m->rest_positions)).norm();
+      if (!(len > 1e-9)) continue;
+      m->fibres.push_back({chain[i], chain[i + 1], len, options.fibre_axial_stiffness_uN / len});
+    }
+  if (!(options.fibre_axial_stiffness_uN > 0.0)) m->fibres.clear();
+  m->fibres_tension_only = options.fibres_tension_only;
   m->mesh = std::move(mesh);
   return m;
 }

@@ -20,9 +20,15 @@ struct ModelOptions {
   Material material{};
   // Contact candidates: surface nodes with rest x ≥ L − tip_region_mm (L = max rest x).
   double tip_region_mm = 6.0;
-  // Fibres (optional): polylines in the rest frame, and the fibre EA [µN] (force per unit strain).
+  // Fibres (optional): polylines in the rest frame (embedded by embed_point), and/or chains of
+  // already embedded points (e.g. from fem/fibre_layout.hpp); both become spring chains with
+  // the fibre EA [µN] (force per unit strain), spring k = EA / rest length.
   std::vector<std::vector<Eigen::Vector3d>> fibre_polylines{};
+  std::vector<std::vector<EmbeddedPoint>> fibre_chains{};
   double fibre_axial_stiffness_uN = 5.0e7;  // 50 N per unit strain
+  // Bilateral springs (default, as SOFA's spring chains: the thread is held by the matrix around
+  // it and resists shortening too) or tension-only (a free thread that goes slack).
+  bool fibres_tension_only = false;
 };
 
 struct Model {
@@ -39,6 +45,7 @@ struct Model {
   std::vector<int> contact_nodes;     // candidates for plate contact, sorted
   std::vector<char> is_base;          // N flags
   std::vector<FibreSpring> fibres;
+  bool fibres_tension_only = false;
   // Sensing region for ε: tets whose rest centroid lies in [chamber_x0, chamber_x1], the axial
   // span of all chamber faces (whole body when the mesh has no chamber).
   double chamber_x0 = 0.0, chamber_x1 = 0.0;

@@ -161,10 +161,7 @@ struct Simulator::Impl {
     }
     if (u) add_fibre_K(xx, *u, *ku);
     for (const FibreSpring& s : model->fibres) {
-      const Eigen::Vector3d d = embedded_position(model->mesh, s.a, xx) - embedded_position(model->mesh, s.b, xx);
-      const double len = d.norm();
-      if (!(len > s.rest_length_mm)) continue;
-      const Eigen::Vector3d fa = -s.stiffness_uN_per_mm * (len - s.rest_length_mm) * (d / len);
+      const Eigen::Vector3d fa = fibre_force(*model, s, xx);
       for (int a = 0; a < 4; ++a) {
         ff.segment<3>(3 * model->mesh.tets[s.a.tet][a]) += s.a.weights[a] * fa;
         ff.segment<3>(3 * model->mesh.tets[s.b.tet][a]) -= s.b.weights[a] * fa;
@@ -667,6 +664,19 @@ Sensors Simulator::sensors() const {
   for (int i : md.tip_nodes) tip += m.x.segment<3>(3 * i);
   s.tip_position_mm = tip / std::max<std::size_t>(1, md.tip_nodes.size());
   return s;
+}
+
+std::vector<double> Simulator::element_axial_strain() const {
+  const Impl& m = *impl_;
+  const Model& md = *m.model;
+  std::vector<double> out(md.mesh.tets.size());
+  for (std::size_t e = 0; e < out.size(); ++e) {
+    const Tet& tt = md.mesh.tets[e];
+    const std::array<Eigen::Vector3d, 4> xe{m.x.segment<3>(3 * tt[0]), m.x.segment<3>(3 * tt[1]),
+                                            m.x.segment<3>(3 * tt[2]), m.x.segment<3>(3 * tt[3])};
+    out[e] = deformation_gradient(md.rest[e], xe).col(0).norm() - 1.0;
+  }
+  return out;
 }
 
 double Simulator::time() const { return impl_->t; }

@@ -80,13 +80,21 @@ void SystemMatrix::add_diagonal(int fi, double d) {
   for (int c = 0; c < 3; ++c) values_[colptr_[3 * fi + c] + 3 * nl + c] += d;
 }
 
+Eigen::Vector3d fibre_force(const Model& model, const FibreSpring& s, const Eigen::VectorXd& x) {
+  const Eigen::Vector3d d = embedded_position(model.mesh, s.a, x) - embedded_position(model.mesh, s.b, x);
+  const double len = d.norm();
+  if (!(len > 0.0) || (model.fibres_tension_only && !(len > s.rest_length_mm))) return Eigen::Vector3d::Zero();
+  return -s.stiffness_uN_per_mm * (len - s.rest_length_mm) * (d / len);
+}
+
 Eigen::Matrix3d fibre_tangent(const Model& model, const FibreSpring& s, const Eigen::VectorXd& x) {
   const Eigen::Vector3d d = embedded_position(model.mesh, s.a, x) - embedded_position(model.mesh, s.b, x);
   const double len = d.norm();
-  if (!(len > s.rest_length_mm)) return Eigen::Matrix3d::Zero();
+  if (!(len > 0.0) || (model.fibres_tension_only && !(len > s.rest_length_mm))) return Eigen::Matrix3d::Zero();
   const Eigen::Vector3d n = d / len;
   const Eigen::Matrix3d nn = n * n.transpose();
-  return s.stiffness_uN_per_mm * (nn + (1.0 - s.rest_length_mm / len) * (Eigen::Matrix3d::Identity() - nn));
+  const double geo = std::max(0.0, 1.0 - s.rest_length_mm / len);
+  return s.stiffness_uN_per_mm * (nn + geo * (Eigen::Matrix3d::Identity() - nn));
 }
 
 void assemble_system(const Model& model, const std::vector<int>& free_index,

@@ -39,7 +39,11 @@ void assemble_system(const Model& model, const std::vector<int>& free_index,
                      const std::vector<Eigen::Matrix3d>& rotations, const Eigen::VectorXd& x,
                      double c_m, double c_k, SystemMatrix& a);
 
-// Fibre spring tangent (3×3) of one spring at positions x: zero when slack.
+// Fibre spring force on end a (−force on end b) at positions x [µN]: −k (ℓ − ℓ0) n, zero when
+// slack (ℓ ≤ ℓ0) for tension-only fibres (model.fibres_tension_only).
+Eigen::Vector3d fibre_force(const Model& model, const FibreSpring& s, const Eigen::VectorXd& x);
+// Its tangent (3×3, positive semi-definite): k n nᵀ + k max(0, 1 − ℓ0/ℓ)(I − n nᵀ); zero when
+// a tension-only fibre is slack. (The geometric part is clamped at 0 under compression.)
 Eigen::Matrix3d fibre_tangent(const Model& model, const FibreSpring& s, const Eigen::VectorXd& x);
 
 }  // namespace codesign::fem

@@ -10,7 +10,9 @@ std::shared_ptr<const Model> build_whisker_model(int design_index, const Whisker
   TetMesh mesh = mesh_whisker(g, spec.mesh);
   ModelOptions mo = spec.model;
   mo.fibre_polylines.clear();
-  // Fibre springs: wired in when the fibre layout (fem/fibre_layout.hpp) is available.
+  mo.fibre_chains.clear();
+  if (spec.fibres.count > 0 && mo.fibre_axial_stiffness_uN > 0.0)
+    for (FibreChain& c : layout_fibres(mesh, g, spec.fibres)) mo.fibre_chains.push_back(std::move(c.points));
   return build_model(std::move(mesh), mo);
 }
 

@@ -3,6 +3,7 @@
 // (mass, stiffness, boundary sets, fibre springs).
 #include <memory>
 
+#include "fem/fibre_layout.hpp"
 #include "fem/model.hpp"
 #include "fem/whisker_geometry.hpp"
 #include "fem/whisker_mesh.hpp"
@@ -12,8 +13,8 @@ namespace codesign::fem {
 struct WhiskerModelSpec {
   WhiskerGeometry geometry{};  // its `design` is replaced by the design index given
   MeshOptions mesh{};
-  ModelOptions model{};        // fibre_polylines are ignored (taken from the fibre layout)
-  bool fibres = true;          // helical fibre springs around the chamber region
+  ModelOptions model{};        // fibre_polylines / fibre_chains are replaced by the layout's
+  FibreLayoutOptions fibres{}; // helical fibre springs around the chamber region (count 0: none)
 };
 
 // Throws std::out_of_range for a bad index and std::invalid_argument / std::runtime_error when

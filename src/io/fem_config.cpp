@@ -51,8 +51,11 @@ fem::SolverConfig read_solver(TableReader& root) {
   return c;
 }
 
-double read_fibre_stiffness(TableReader& fibres) {
-  return 1e6 * fibres.number("axial_stiffness_N", 50.0, 0.0, 1e4);
+FibreStiffness read_fibre_stiffness(TableReader& fibres) {
+  FibreStiffness f;
+  f.axial_stiffness_uN = 1e6 * fibres.number("axial_stiffness_N", 1e-6 * f.axial_stiffness_uN, 0.0, 1e4);
+  f.tension_only = fibres.boolean("tension_only", f.tension_only);
+  return f;
 }
 
 SimScenario read_sim_scenario(TableReader& root) {

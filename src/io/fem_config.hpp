@@ -8,7 +8,7 @@
 //   [solver]    method ("fast" | "exact"), dt_s, static_dt_s, fast_tolerance,
 //               fast_max_iterations, fast_refactor_iterations, contact_tolerance_mm,
 //               contact_margin_mm
-//   [fibres]    axial_stiffness_N (only this key; the layout keys belong to the mesh reader)
+//   [fibres]    axial_stiffness_N, tension_only (the layout keys belong to the mesh reader)
 //   [sim]       design, pressures_kPa, theta_deg, theta_hold_steps, steps, vtk_every
 //
 // Every reader takes the root, reads its table and calls finish() on it (unknown keys are
@@ -31,9 +31,13 @@ struct SceneSettings {
 };
 SceneSettings read_scene(TableReader& root);
 fem::SolverConfig read_solver(TableReader& root);
-// EA of one fibre [µN] from fibres.axial_stiffness_N (default 50 N, range 0..1e4 N; 0 disables
-// the fibre springs).
-double read_fibre_stiffness(TableReader& fibres);
+// The FEM part of [fibres]: axial_stiffness_N = EA of one fibre (default 50 N, range 0..1e4 N;
+// 0 disables the springs), tension_only (default false: bilateral springs, as SOFA's chains).
+struct FibreStiffness {
+  double axial_stiffness_uN = 5.0e7;
+  bool tension_only = false;
+};
+FibreStiffness read_fibre_stiffness(TableReader& fibres);
 
 // The open-loop scenario of `codesign sim`.
 struct SimScenario {
