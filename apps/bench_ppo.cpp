@@ -208,6 +208,27 @@ int run_bench(const BenchOptions& o) {
   std::printf("    goal 0.8 s:    %s (needs %.0f GFLOP/s)\n", med <= 0.8 ? "met" : "NOT met",
               flops * 1e-9 / 0.8);
 
+  {
+    // Baseline: the same iteration with Eigen's GEMM everywhere (no rl::sgemm).
+    rl::Rng rng_b(2024);
+    rl::ActorCritic eigen_model(6, 1, cfg.actor_hidden, cfg.critic_hidden);
+    eigen_model.init_orthogonal(rng_b);
+    eigen_model.set_fast_gemm(false);
+    rl::Adam adam_b = rl::make_adam(cfg);
+    std::vector<double> tb, cb;
+    for (int r = 0; r < std::min(o.reps, 3); ++r) {
+      const IterationTimes t = run_iteration(eigen_model, adam_b, cfg, o.n_envs, rng_b);
+      tb.push_back(t.total());
+      cb.push_back(t.cpu);
+    }
+    const double base = median(tb), base_cpu = median(cb);
+    std::printf("\n  baseline, same iteration with Eigen's GEMM only (median of %zu):\n", tb.size());
+    std::printf("    iteration      %.3f s wall, %.3f s CPU -> %.1f GFLOP/s (CPU time)\n", base,
+                base_cpu, flops * 1e-9 / base_cpu);
+    std::printf("    rl::sgemm path is %.2fx faster (CPU time; %.2fx wall)\n",
+                base_cpu / median(cpu), base / med);
+  }
+
   if (o.with_kl) {
     cfg.target_kl = 0.02;
     rl::Rng rng_kl(7);

@@ -85,6 +85,12 @@ class ActorCriticT {
   Vec deterministic_action(const Eigen::Ref<const Vec>& obs) const;
   Mat deterministic_actions(const Eigen::Ref<const Mat>& obs) const;
 
+  // Enables/disables the fast float32 GEMM in both networks (see MlpT::set_fast_gemm).
+  void set_fast_gemm(bool on) {
+    actor_.set_fast_gemm(on);
+    critic_.set_fast_gemm(on);
+  }
+
   // A zero gradient of the right sizes.
   Grad zero_grad() const;
   // Parameter/gradient blocks for AdamT::step, in the order actor, critic, log_std.

@@ -69,20 +69,28 @@ void sgemm(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::In
     const Eigen::Index kc = std::min(kKc, k - k0);
     const bool accumulate = k0 > 0;
     // Pack A: panel i0 holds rows i0..i0+31, stored p-major (32 contiguous floats per p).
+    // Loops run along the contiguous direction of the source (writes stay inside one panel,
+    // which fits L1).
     float* pa = ws.packed_a.data();
     for (Eigen::Index i0 = 0; i0 < m_pad; i0 += kMr) {
       float* panel = pa + i0 * kc;
       const Eigen::Index rows = std::min(kMr, m - i0);
-      for (Eigen::Index p = 0; p < kc; ++p) {
-        float* dst = panel + p * kMr;
-        if (!trans_a) {
+      if (!trans_a) {
+        for (Eigen::Index p = 0; p < kc; ++p) {
           const float* src = a + i0 + (k0 + p) * lda;
+          float* dst = panel + p * kMr;
           for (Eigen::Index i = 0; i < rows; ++i) dst[i] = src[i];
-        } else {
-          const float* src = a + (k0 + p) + i0 * lda;
-          for (Eigen::Index i = 0; i < rows; ++i) dst[i] = src[i * lda];
+          for (Eigen::Index i = rows; i < kMr; ++i) dst[i] = 0.0f;
         }
-        for (Eigen::Index i = rows; i < kMr; ++i) dst[i] = 0.0f;
+      } else {
+        for (Eigen::Index i = 0; i < kMr; ++i) {
+          if (i < rows) {
+            const float* src = a + k0 + (i0 + i) * lda;  // row i of op(A) is contiguous
+            for (Eigen::Index p = 0; p < kc; ++p) panel[p * kMr + i] = src[p];
+          } else {
+            for (Eigen::Index p = 0; p < kc; ++p) panel[p * kMr + i] = 0.0f;
+          }
+        }
       }
     }
     // Pack B: panel j0 holds columns j0..j0+11, stored p-major (12 contiguous floats per p).
@@ -90,16 +98,22 @@ void sgemm(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::In
     for (Eigen::Index j0 = 0; j0 < n_pad; j0 += kNr) {
       float* panel = pb + j0 * kc;
       const Eigen::Index cols = std::min(kNr, n - j0);
-      for (Eigen::Index p = 0; p < kc; ++p) {
-        float* dst = panel + p * kNr;
-        if (!trans_b) {
-          const float* src = b + (k0 + p) + j0 * ldb;
-          for (Eigen::Index j = 0; j < cols; ++j) dst[j] = src[j * ldb];
-        } else {
-          const float* src = b + j0 + (k0 + p) * ldb;
-          for (Eigen::Index j = 0; j < cols; ++j) dst[j] = src[j];
+      if (!trans_b) {
+        for (Eigen::Index j = 0; j < kNr; ++j) {
+          if (j < cols) {
+            const float* src = b + k0 + (j0 + j) * ldb;  // column j of op(B) is contiguous
+            for (Eigen::Index p = 0; p < kc; ++p) panel[p * kNr + j] = src[p];
+          } else {
+            for (Eigen::Index p = 0; p < kc; ++p) panel[p * kNr + j] = 0.0f;
+          }
         }
-        for (Eigen::Index j = cols; j < kNr; ++j) dst[j] = 0.0f;
+      } else {
+        for (Eigen::Index p = 0; p < kc; ++p) {
+          const float* src = b + j0 + (k0 + p) * ldb;
+          float* dst = panel + p * kNr;
+          for (Eigen::Index j = 0; j < cols; ++j) dst[j] = src[j];
+          for (Eigen::Index j = cols; j < kNr; ++j) dst[j] = 0.0f;
+        }
       }
     }
     for (Eigen::Index j0 = 0; j0 < n_pad; j0 += kNr) {

@@ -71,16 +71,16 @@ Eigen::MatrixXd orthogonal(Eigen::Index rows, Eigen::Index cols, double gain, Rn
 // dst = op(A) op(B) through the fast float32 GEMM when the shape is large enough for it to pay
 // off; returns false (caller uses Eigen) otherwise.
 template <class S>
-bool fast_product(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k, const S* a,
+bool fast_product(bool enabled, bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k, const S* a,
                   Eigen::Index lda, const S* b, Eigen::Index ldb, S* c, Eigen::Index ldc,
                   GemmWorkspace& ws) {
   if constexpr (std::is_same_v<S, float>) {
-    if (fast_gemm_available() && m >= 64 && n >= 32 && k >= 32) {
+    if (enabled && fast_gemm_available() && m >= 64 && n >= 32 && k >= 32) {
       sgemm(ta, tb, m, n, k, a, lda, b, ldb, c, ldc, ws);
       return true;
     }
   }
-  (void)ta, (void)tb, (void)m, (void)n, (void)k, (void)a, (void)lda, (void)b, (void)ldb, (void)c,
+  (void)enabled, (void)ta, (void)tb, (void)m, (void)n, (void)k, (void)a, (void)lda, (void)b, (void)ldb, (void)c,
       (void)ldc, (void)ws;
   return false;
 }
@@ -108,7 +108,7 @@ const typename MlpT<S>::Mat& MlpT<S>::forward(const Eigen::Ref<const Mat>& x, Ca
     Mat& out = cache.a[l];
     out.resize(sizes_[l], x.cols());
     const Mat& in = cache.a[l - 1];
-    if (!fast_product<S>(false, false, out.rows(), out.cols(), in.rows(),
+    if (!fast_product<S>(fast_gemm_, false, false, out.rows(), out.cols(), in.rows(),
                          params_.data() + offsets_[l - 1], out.rows(), in.data(), in.rows(),
                          out.data(), out.rows(), cache.gemm))
       out.noalias() = weight(l) * in;
@@ -136,7 +136,7 @@ void MlpT<S>::backward(Cache& cache, const Eigen::Ref<const Mat>& d_out, Eigen::
     const Mat& below = cache.a[l - 1];
     MatMap g_w(grad.data() + offsets_[l - 1], sizes_[l], sizes_[l - 1]);
     VecMap g_b(grad.data() + bias_offset(l), sizes_[l]);
-    if (!fast_product<S>(false, true, g_w.rows(), g_w.cols(), below.cols(), cache.delta.data(),
+    if (!fast_product<S>(fast_gemm_, false, true, g_w.rows(), g_w.cols(), below.cols(), cache.delta.data(),
                          cache.delta.rows(), below.data(), below.rows(), g_w.data(), g_w.rows(),
                          cache.gemm))
       g_w.noalias() = cache.delta * below.transpose();
@@ -146,7 +146,7 @@ void MlpT<S>::backward(Cache& cache, const Eigen::Ref<const Mat>& d_out, Eigen::
     g_b.noalias() = cache.delta * cache.ones;
     if (l > 1) {
       cache.delta_prev.resize(sizes_[l - 1], cache.delta.cols());
-      if (!fast_product<S>(true, false, sizes_[l - 1], cache.delta.cols(), sizes_[l],
+      if (!fast_product<S>(fast_gemm_, true, false, sizes_[l - 1], cache.delta.cols(), sizes_[l],
                            params_.data() + offsets_[l - 1], sizes_[l], cache.delta.data(),
                            cache.delta.rows(), cache.delta_prev.data(), sizes_[l - 1],
                            cache.gemm))

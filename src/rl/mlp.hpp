@@ -69,6 +69,9 @@ class MlpT {
   void init_orthogonal(S output_gain, Rng& rng);
 
   // Large float32 layers use rl::sgemm (gemm.hpp) when available, everything else Eigen.
+  // set_fast_gemm(false) forces Eigen everywhere (the benchmark's baseline).
+  void set_fast_gemm(bool on) { fast_gemm_ = on; }
+  bool fast_gemm() const { return fast_gemm_; }
   // Batched forward; fills cache.a and returns cache.a.back() (output_dim x B).
   const Mat& forward(const Eigen::Ref<const Mat>& x, Cache& cache) const;
   // Forward without keeping anything.
@@ -91,6 +94,7 @@ class MlpT {
   std::vector<int> sizes_;
   std::vector<Eigen::Index> offsets_;  // start of W_l in params_
   Vec params_;
+  bool fast_gemm_ = true;
 };
 
 using Mlp = MlpT<float>;
