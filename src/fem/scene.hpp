@@ -20,7 +20,7 @@ namespace codesign::fem {
 
 struct SceneConfig {
   double inclination_deg = 30.0;    // α, in [0, 80]
-  double preload_mm = 3.0;          // plate mean height above z_touch, in [0, 30]
+  double preload_mm = 0.5;          // plate mean height above z_touch, in [0, 30]
   double plate_amplitude_mm = 2.0;  // U, in [0, 20]
   double plate_frequency_Hz = 0.8;  // f = ω/2π; 2 periods over 250 steps of 0.01 s
   double plate_phase_rad = 0.0;     // z_plate = z0 + U sin(ω t + phase)
