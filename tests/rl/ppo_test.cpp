@@ -176,6 +176,51 @@ TEST(PpoUpdate, WithoutTargetKlRunsAllEpochsIncludingThePartialMinibatch) {
   EXPECT_EQ(adam.step_count(), 30);
 }
 
+TEST(PpoUpdate, GradientNormIsGlobalAndClipped) {
+  Rng rng(5);
+  ActorCritic model(2, 1, {8}, {8});
+  model.init_orthogonal(rng);
+  const RolloutBuffer buf = make_buffer(model, -0.1f, rng);
+  PpoConfig cfg;
+  cfg.batch_size = 10;  // one minibatch = the whole buffer, one epoch, one Adam step
+  cfg.n_epochs = 1;
+  cfg.learning_rate = 1e-3;
+  cfg.ent_coef = 0.01;
+
+  // The reported pre-clip norm is the norm over actor, critic AND log_std together. The loss is a
+  // mean over samples, so the shuffled order only changes float rounding (relative 1e-5 is
+  // ~100 float ulps).
+  PpoMinibatchT<float> all{buf.observations(), buf.actions(), buf.log_probs(), buf.advantages(),
+                           buf.returns()};
+  PpoWorkspaceT<float> ws;
+  ActorCriticGrad g = model.zero_grad();
+  ppo_minibatch_loss<float>(model, all, {cfg.clip_range, cfg.ent_coef, cfg.vf_coef, true}, &g, ws);
+  const double full_norm = std::sqrt(static_cast<double>(g.squared_norm()));
+  ASSERT_GT(g.log_std.norm(), 0.0f);
+
+  auto max_change = [&](double max_grad_norm, double* reported_norm) {
+    ActorCritic m = model;
+    PpoConfig c = cfg;
+    c.max_grad_norm = max_grad_norm;
+    Adam adam = make_adam(c);
+    Rng r(1);
+    const PpoStats s = ppo_update(m, adam, buf, c, 0, r);
+    *reported_norm = s.grad_norm;
+    return std::max({(m.actor().params() - model.actor().params()).cwiseAbs().maxCoeff(),
+                     (m.critic().params() - model.critic().params()).cwiseAbs().maxCoeff(),
+                     (m.log_std() - model.log_std()).cwiseAbs().maxCoeff()});
+  };
+  double n1 = 0, n2 = 0;
+  const double free_step = max_change(1e9, &n1);
+  // Clipped to norm 1e-9, every gradient entry is <= 1e-9 << eps = 1e-5, so Adam's first step
+  // lr * g / (|g| + eps) is <= lr * 1e-4; unclipped, the largest entry moves by ~lr.
+  const double clipped_step = max_change(1e-9, &n2);
+  EXPECT_NEAR(n1, full_norm, 1e-5 * full_norm);
+  EXPECT_NEAR(n2, full_norm, 1e-5 * full_norm);
+  EXPECT_GT(free_step, 0.5 * cfg.learning_rate);
+  EXPECT_LT(clipped_step, 1e-4 * cfg.learning_rate * 1.01);
+}
+
 TEST(PpoConfig, EntropyCoefficientDecaysLinearly) {
   const PpoConfig c = paper_ppo_config();
   EXPECT_DOUBLE_EQ(entropy_coef_at(c, 0), 0.01);
