@@ -195,8 +195,12 @@ TEST(PpoUpdate, GradientNormIsGlobalAndClipped) {
   PpoWorkspaceT<float> ws;
   ActorCriticGrad g = model.zero_grad();
   ppo_minibatch_loss<float>(model, all, {cfg.clip_range, cfg.ent_coef, cfg.vf_coef, true}, &g, ws);
-  const double full_norm = std::sqrt(static_cast<double>(g.squared_norm()));
-  ASSERT_GT(g.log_std.norm(), 0.0f);
+  const double actor2 = g.actor.cast<double>().squaredNorm();
+  const double critic2 = g.critic.cast<double>().squaredNorm();
+  const double log_std2 = g.log_std.cast<double>().squaredNorm();
+  const double full_norm = std::sqrt(actor2 + critic2 + log_std2);
+  // log_std must matter at the tolerance used below, or leaving it out would go unnoticed.
+  ASSERT_GT(log_std2, 1e-3 * full_norm * full_norm);
 
   auto max_change = [&](double max_grad_norm, double* reported_norm) {
     ActorCritic m = model;
