@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -122,6 +123,43 @@ TetMesh generate_tets(const SizeField& size, double size_min, double size_max, d
   return m;
 }
 
+struct SizeSpec {
+  SizeField field;
+  double min, max;
+};
+
+// min over tets of (dihedral / threshold - 1, radius ratio / threshold - 1, …): ≥ 0 ⇔ no sliver.
+double worst_shape_margin(const TetMesh& m, const QualityThresholds& th) {
+  const QualityReport r = check_mesh(m, th);
+  return std::min({r.min_dihedral_deg / th.min_dihedral_deg - 1.0,
+                   r.min_radius_ratio / th.min_radius_ratio - 1.0,
+                   th.max_dihedral_deg / r.max_dihedral_deg - 1.0});
+}
+
+// Delaunay can leave a few slivers whose four nodes all lie on the boundary (across the thin
+// septum, whose faces carry near mirror-image meshes, or flat on the skin); gmsh's optimiser
+// cannot move boundary nodes. Such slivers depend on the exact node placement, so we remesh
+// with a slightly different size (a fixed sequence: deterministic) until none is left, and
+// return the best try otherwise (the caller's quality check then reports it).
+template <class MakeSize>
+TetMesh generate_with_retries(MakeSize&& make_size, double optimise_threshold, const QualityThresholds& th) {
+  constexpr double kScales[] = {1.0, 0.96, 1.04, 0.92, 1.08, 0.88, 1.12};
+  TetMesh best;
+  double best_score = -std::numeric_limits<double>::infinity();
+  for (const double scale : kScales) {
+    if (scale != kScales[0]) guarded("clearing the mesh", [] { gmsh::model::mesh::clear(); });
+    const SizeSpec spec = make_size(scale);
+    TetMesh trial = generate_tets(spec.field, spec.min, spec.max, optimise_threshold);
+    const double score = worst_shape_margin(trial, th);
+    if (score > best_score) {
+      best_score = score;
+      best = std::move(trial);
+    }
+    if (score >= 0) break;
+  }
+  return best;
+}
+
 // Which tag a boundary face gets: -1 untagged (outer skin), 0 base, 1 tip, 2 + k chamber k.
 using Classifier = std::function<int(const Eigen::Vector3d& centroid)>;
 
@@ -136,14 +174,6 @@ void tag_boundary(TetMesh& m, int chambers, const Classifier& classify) {
     else if (tag == 1) m.tip_faces.push_back(f);
     else if (tag >= 2) m.chamber_faces.at(tag - 2).push_back(f);
   }
-}
-
-// min over tets of (dihedral / threshold - 1, radius ratio / threshold - 1): ≥ 0 ⇔ no sliver.
-double worst_shape_margin(const TetMesh& m, const QualityThresholds& th) {
-  const QualityReport r = check_mesh(m, th);
-  return std::min({r.min_dihedral_deg / th.min_dihedral_deg - 1.0,
-                   r.min_radius_ratio / th.min_radius_ratio - 1.0,
-                   th.max_dihedral_deg / r.max_dihedral_deg - 1.0});
 }
 
 double radial(const Eigen::Vector3d& p) { return std::hypot(p.y(), p.z()); }
@@ -177,33 +207,18 @@ TetMesh mesh_whisker(const WhiskerGeometry& g, const MeshOptions& opt) {
       occ::cut({{3, cone}}, cavities, body, map);
       occ::synchronize();
     });
-    // Delaunay can leave a few slivers whose four nodes all lie on the boundary (across the thin
-    // septum, whose faces carry near mirror-image meshes, or flat on the skin); the optimiser
-    // cannot move boundary nodes. Such slivers depend on the exact node placement, so we remesh
-    // with a slightly different size (a fixed sequence: deterministic) until none is left.
-    constexpr double kScales[] = {1.0, 0.96, 1.04, 0.92, 1.08, 0.88, 1.12};
-    TetMesh m;
-    double best_score = -1;
-    for (const double scale : kScales) {
-      const double h_wall = scale * opt.wall_factor * w;
-      const double h_max = scale * opt.max_size_mm, k = scale * opt.radius_factor;
-      const SizeField size = [&](double x, double, double) {
-        const double far = std::min(h_max, k * g.outer_radius(x));
-        const double d = x < x0 ? x0 - x : (x > x1 ? x - x1 : 0.0);
-        return std::min(far, h_wall + opt.grading * d);
-      };
-      const double h_min = std::min(h_wall, k * g.tip_radius());
-      if (scale != kScales[0]) {
-        gmsh::model::mesh::clear();
-      }
-      TetMesh trial = generate_tets(size, 0.5 * h_min, h_max, opt.optimise_threshold);
-      const double score = worst_shape_margin(trial, opt.quality);
-      if (score > best_score) {
-        best_score = score;
-        m = std::move(trial);
-      }
-      if (score >= 0) break;
-    }
+    TetMesh m = generate_with_retries(
+        [&](double scale) {
+          const double h_wall = scale * opt.wall_factor * w;
+          const double h_max = scale * opt.max_size_mm, k = scale * opt.radius_factor;
+          return SizeSpec{[=, &g](double x, double, double) {
+                            const double far = std::min(h_max, k * g.outer_radius(x));
+                            const double d = x < x0 ? x0 - x : (x > x1 ? x - x1 : 0.0);
+                            return std::min(far, h_wall + opt.grading * d);
+                          },
+                          0.5 * std::min(h_wall, k * g.tip_radius()), h_max};
+        },
+        opt.optimise_threshold, opt.quality);
 
     // Geometric classification of boundary faces by centroid. Planar faces lie exactly on their
     // plane (up to round-off); curved-surface facets deviate from the surface by at most the
@@ -227,7 +242,13 @@ TetMesh mesh_cylinder(double radius, double length, double size) {
     gmsh::model::occ::addCylinder(0, 0, 0, length, 0, 0, radius);
     gmsh::model::occ::synchronize();
   });
-  TetMesh m = generate_tets([size](double, double, double) { return size; }, 0.5 * size, size, MeshOptions{}.optimise_threshold);
+  const MeshOptions defaults;
+  TetMesh m = generate_with_retries(
+      [size](double scale) {
+        const double h = scale * size;
+        return SizeSpec{[h](double, double, double) { return h; }, 0.5 * h, h};
+      },
+      defaults.optimise_threshold, defaults.quality);
   const double tol = 1e-6 * length;
   tag_boundary(m, 0, [&](const Eigen::Vector3d& c) {
     if (std::abs(c.x()) < tol) return 0;
@@ -251,7 +272,13 @@ TetMesh mesh_hollow_cylinder(double r_in, double r_out, double length, double si
     occ::cut({{3, outer}}, {{3, inner}}, out, map);
     occ::synchronize();
   });
-  TetMesh m = generate_tets([size](double, double, double) { return size; }, 0.5 * size, size, MeshOptions{}.optimise_threshold);
+  const MeshOptions defaults;
+  TetMesh m = generate_with_retries(
+      [size](double scale) {
+        const double h = scale * size;
+        return SizeSpec{[h](double, double, double) { return h; }, 0.5 * h, h};
+      },
+      defaults.optimise_threshold, defaults.quality);
   const double tol = 1e-6 * length;
   const double mid = 0.5 * (r_in + r_out);
   tag_boundary(m, 1, [&](const Eigen::Vector3d& c) {

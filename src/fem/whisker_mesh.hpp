@@ -17,7 +17,7 @@ namespace codesign::fem {
 //   h(x) = min(max_size, radius_factor * R(x))              everywhere,
 //   h(x) = min(h(x), wall_factor * w + grading * d(x))       where d(x) is the axial distance to
 //                                                             the chamber region (0 inside it).
-// With the defaults the default design j21 gets ~2.1k tets (the FEM step must stay ≤ 1 ms), and
+// With the defaults the default design j21 gets ~2.2k tets (the FEM step must stay ≤ 1 ms), and
 // the size in the chamber region scales with w so every design is resolved alike relative to its
 // wall. A conforming tet mesh always has ≥ 1 element through any wall.
 struct MeshOptions {
@@ -36,7 +36,8 @@ struct MeshOptions {
 TetMesh mesh_whisker(const WhiskerGeometry& g, const MeshOptions& opt = {});
 
 // Solid cylinder of the given radius along +x from x = 0 (base_faces) to x = length (tip_faces),
-// uniform target size. No chambers.
+// uniform target size. No chambers. Like mesh_whisker, a mesh with a sliver (default
+// QualityThresholds) is regenerated with the size scaled by 0.96, 1.04, 0.92, … (≤ 7 tries).
 TetMesh mesh_cylinder(double radius, double length, double size);
 // Hollow cylinder r_in < r < r_out along +x; chamber_faces[0] is the inner surface, base/tip the
 // annular end faces at x = 0 and x = length.
