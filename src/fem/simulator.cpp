@@ -528,11 +528,16 @@ struct Simulator::Impl {
         scale = r0n;
         tol = solver.fast_tolerance * scale;
       }
-      precondition(rc, z);
-      p = z;
-      double rz = rc.dot(z);
+      double rz = 0.0;
       int it = 0;
+      // Preconditioned CG; the convergence test comes before the preconditioner, so a converged
+      // residual costs no further solve.
       while (rc.norm() > tol && it < solver.fast_max_iterations) {
+        precondition(rc, z);
+        const double rz_new = rc.dot(z);
+        if (it == 0) p = z;
+        else p = z + (rz_new / rz) * p;
+        rz = rz_new;
         dall.setZero();
         scatter_add(p, dall);
         apply_A(dall, c_m, c_k, av);
@@ -544,10 +549,6 @@ struct Simulator::Impl {
         r -= alpha * q;
         rc = r;
         project(rc);
-        precondition(rc, z);
-        const double rz_new = rc.dot(z);
-        p = z + (rz_new / rz) * p;
-        rz = rz_new;
         ++it;
       }
       total_iterations += it;
