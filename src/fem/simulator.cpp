@@ -59,6 +59,7 @@ struct Simulator::Impl {
   double omega_last = 0.0;   // base angular velocity of the last step [rad/s]   // f: total force at x from the last force pass (µN)
   std::vector<Eigen::Matrix3d> rot;      // per tet: polar rotation at x
   std::vector<Eigen::Quaterniond> qrot;  // the same as unit quaternions (warm starts)
+  std::vector<Eigen::Matrix3d> fibre_kt;  // per fibre spring: tangent at x (last force pass)
   double t = 0.0;
   double theta = 0.0, theta_from = 0.0, theta_to = 0.0;
   int ramp_total = 0, ramp_done = 0;
@@ -159,8 +160,11 @@ struct Simulator::Impl {
         for (int a = 0; a < 4; ++a) ff.segment<3>(3 * tt[a]) += fe.segment<3>(3 * a);
       }
     }
-    if (u) add_fibre_K(xx, *u, *ku);
-    for (const FibreSpring& s : model->fibres) {
+    if (u) add_fibre_K(*u, *ku);
+    fibre_kt.resize(model->fibres.size());
+    for (std::size_t q = 0; q < model->fibres.size(); ++q) {
+      const FibreSpring& s = model->fibres[q];
+      fibre_kt[q] = fibre_tangent(*model, s, xx);  // cached for the mat-vecs of this step
       const Eigen::Vector3d fa = fibre_force(*model, s, xx);
       for (int a = 0; a < 4; ++a) {
         ff.segment<3>(3 * model->mesh.tets[s.a.tet][a]) += s.a.weights[a] * fa;
@@ -184,12 +188,14 @@ struct Simulator::Impl {
       const Vec12 ye = corotated_stiffness_times(model->rest[e], rot[e], ue, mu, lambda);
       for (int a = 0; a < 4; ++a) y.segment<3>(3 * tt[a]) += ye.segment<3>(3 * a);
     }
-    add_fibre_K(x, u, y);
+    add_fibre_K(u, y);
   }
 
-  void add_fibre_K(const Eigen::VectorXd& xx, const Eigen::VectorXd& u, Eigen::VectorXd& y) const {
-    for (const FibreSpring& s : model->fibres) {
-      const Eigen::Matrix3d kt = fibre_tangent(*model, s, xx);
+  // Fibre tangents (cached by the last force pass) times u.
+  void add_fibre_K(const Eigen::VectorXd& u, Eigen::VectorXd& y) const {
+    for (std::size_t q = 0; q < model->fibres.size(); ++q) {
+      const FibreSpring& s = model->fibres[q];
+      const Eigen::Matrix3d& kt = fibre_kt[q];
       if (kt.isZero(0.0)) continue;
       const Eigen::Vector3d du = embedded_position(model->mesh, s.a, u) - embedded_position(model->mesh, s.b, u);
       const Eigen::Vector3d fa = kt * du;
@@ -250,21 +256,22 @@ struct Simulator::Impl {
     return true;
   }
 
-  // Node rotations: polar factor of the volume-weighted sum of the adjacent element rotations
-  // (warm-started from the previous value).
+  // Node rotations: normalised volume-weighted sum of the adjacent element rotations as unit
+  // quaternions (sign-aligned with the node's previous rotation) — a cheap rotation average;
+  // it only shapes the preconditioner.
   void update_node_rotations() {
-    std::vector<Eigen::Matrix3d> acc(nfree, Eigen::Matrix3d::Zero());
+    if (static_cast<int>(node_qrot.size()) != nfree) node_qrot.assign(nfree, Eigen::Quaterniond(base_rotation(0.0)));
+    std::vector<Eigen::Vector4d> acc(nfree, Eigen::Vector4d::Zero());
     const auto& tets = model->mesh.tets;
     for (std::size_t e = 0; e < tets.size(); ++e) {
-      const Eigen::Matrix3d w = model->rest[e].volume * rot[e];
+      const Eigen::Vector4d qe = qrot[e].coeffs() * model->rest[e].volume;
       for (int a = 0; a < 4; ++a)
-        if (const int k = free_index[tets[e][a]]; k >= 0) acc[k] += w;
+        if (const int k = free_index[tets[e][a]]; k >= 0) acc[k] += qe.dot(node_qrot[k].coeffs()) >= 0.0 ? qe : Eigen::Vector4d(-qe);
     }
-    if (static_cast<int>(node_qrot.size()) != nfree) node_qrot.assign(nfree, Eigen::Quaterniond::Identity());
     node_rot.resize(nfree);
-    // Only a preconditioner: 1e-4 rad is plenty.
     for (int k = 0; k < nfree; ++k) {
-      node_qrot[k] = polar_rotation(acc[k], node_qrot[k], 1e-4);
+      const double nrm = acc[k].norm();
+      if (nrm > 0.0) node_qrot[k].coeffs() = acc[k] / nrm;
       node_rot[k] = node_qrot[k].toRotationMatrix();
     }
   }
@@ -694,9 +701,11 @@ Eigen::Vector3d Simulator::base_reaction() const {
   std::string why;
   const std::vector<Eigen::Matrix3d> keep = m.rot;
   const std::vector<Eigen::Quaterniond> keepq = m.qrot;
-  m.force_pass(m.x, ff, why);
+  const std::vector<Eigen::Matrix3d> keepk = m.fibre_kt;
+  m.force_pass(m.x, ff, why);  // the caches (rotations, fibre tangents) stay those of the step
   m.rot = keep;
   m.qrot = keepq;
+  m.fibre_kt = keepk;
   Eigen::Vector3d r = Eigen::Vector3d::Zero();
   for (int b : m.model->base_nodes) r -= ff.segment<3>(3 * b);
   return r;
