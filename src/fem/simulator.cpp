@@ -75,8 +75,12 @@ struct Simulator::Impl {
   CholmodFactor exact_factor;
   bool exact_analysed = false;
   // Fast machinery.
-  Reference rest_ref, cur_ref;  // rest_ref: at reset state; cur_ref: refactorised later
-  bool use_cur = false;
+  // Per step kind (0: dynamic dt, 1: static dt): rest = at the reset placement (built once, kept
+  // across reset()), cur = refactorised later at a deformed state.
+  struct RefSlot {
+    Reference rest, cur;
+    bool use_cur = false;
+  } slots[2];
   Eigen::VectorXd work_b, work_r, work_u, work_y;
   std::vector<Eigen::Matrix3d> node_rot, warp;  // per free node (fast method)
   std::vector<Eigen::Quaterniond> node_qrot;
@@ -116,7 +120,7 @@ struct Simulator::Impl {
     contacts.clear();
     was_active.assign(model->contact_nodes.size(), 0);
     broken = false;
-    use_cur = false;
+    for (RefSlot& sl : slots) sl.use_cur = false;
   }
 
   double plate_at(double time) const {
@@ -160,7 +164,6 @@ struct Simulator::Impl {
         for (int a = 0; a < 4; ++a) ff.segment<3>(3 * tt[a]) += fe.segment<3>(3 * a);
       }
     }
-    if (u) add_fibre_K(*u, *ku);
     fibre_kt.resize(model->fibres.size());
     for (std::size_t q = 0; q < model->fibres.size(); ++q) {
       const FibreSpring& s = model->fibres[q];
@@ -171,6 +174,7 @@ struct Simulator::Impl {
         ff.segment<3>(3 * model->mesh.tets[s.b.tet][a]) -= s.b.weights[a] * fa;
       }
     }
+    if (u) add_fibre_K(*u, *ku);
     const double g = model->material.gravity_mm_s2;
     for (int i = 0; i < n; ++i) ff[3 * i + 2] -= model->lumped_mass[i] * g;
     add_pressure_forces(model->mesh, xx, pressures_Pa, ff);
@@ -298,7 +302,7 @@ struct Simulator::Impl {
     return true;
   }
 
-  Reference& reference() { return use_cur ? cur_ref : rest_ref; }
+  RefSlot& slot(bool dynamic) { return slots[dynamic ? 0 : 1]; }
 
   // y = Q A_ref⁻¹ Qᵀ r (free DOFs), Q = blockdiag(warp): the stored inverse turned node by node.
   void apply_ref_inverse(Reference& ref, const Eigen::VectorXd& r, Eigen::VectorXd& y) {
@@ -347,7 +351,7 @@ struct Simulator::Impl {
     }
     for (int bn : model->base_nodes)
       vg.segment<3>(3 * bn) = (Gb * model->rest_positions.segment<3>(3 * bn) - x.segment<3>(3 * bn)) / dt;
-    const bool exact = solver.method == StepMethod::Exact || !dynamic;
+    const bool exact = solver.method == StepMethod::Exact;
     if (!exact)
       for (std::size_t c = 0; c < model->contact_nodes.size(); ++c)
         if (was_active[c]) vg[3 * model->contact_nodes[c] + 2] = (plate_new - x[3 * model->contact_nodes[c] + 2]) / dt;
@@ -453,7 +457,8 @@ struct Simulator::Impl {
   StepResult fast_solve(const Eigen::VectorXd& vg, const Eigen::VectorXd& kvg, const Eigen::VectorXd& b,
                         double plate_new, double dt, double c_m, double c_k, Eigen::VectorXd& vnew) {
     StepResult res;
-    if (!rest_ref.valid) {
+    RefSlot& sl = slot(dt == solver.dt_s);
+    if (!sl.rest.valid) {
       // Built once at the reset placement (θ = 0, undeformed), kept across reset().
       const Eigen::VectorXd xs = x;
       const auto rs = rot;
@@ -463,7 +468,7 @@ struct Simulator::Impl {
       for (int i = 0; i < n; ++i) x.segment<3>(3 * i) = G0 * model->rest_positions.segment<3>(3 * i);
       std::fill(rot.begin(), rot.end(), G0);
       theta = 0.0;
-      const bool ok = build_reference(rest_ref, dt);
+      const bool ok = build_reference(sl.rest, dt);
       theta = th;
       x = xs;
       rot = rs;
@@ -471,7 +476,7 @@ struct Simulator::Impl {
       if (!ok) return fail(StepStatus::SolverFailure, "CHOLMOD factorisation of the reference matrix failed");
       res.refactorised = true;
     }
-    Reference& ref = reference();
+    Reference& ref = sl.use_cur ? sl.cur : sl.rest;
     update_node_rotations();
     update_warp(ref);
     const auto& cn = model->contact_nodes;
@@ -593,8 +598,8 @@ struct Simulator::Impl {
     res.iterations = total_iterations;
     if (total_iterations > solver.fast_refactor_iterations) {
       // The stored factor has drifted from the current matrix: refactorise at this state.
-      if (!build_reference(cur_ref, dt)) return fail(StepStatus::SolverFailure, "CHOLMOD refactorisation failed");
-      use_cur = true;
+      if (!build_reference(sl.cur, dt)) return fail(StepStatus::SolverFailure, "CHOLMOD refactorisation failed");
+      sl.use_cur = true;
       res.refactorised = true;
     }
     return res;
@@ -622,6 +627,18 @@ StepResult Simulator::settle() {
   for (int s = 0; s < 5; ++s) {
     last = m.advance(false);
     if (!last.ok()) return last;
+  }
+  // Fast: factorise the dynamic system at the settled state — the operating point of the
+  // episode is a far better preconditioner than the straight rest placement.
+  if (m.solver.method == StepMethod::Fast) {
+    std::string why;
+    Eigen::VectorXd ff;
+    const StepStatus fs = m.force_pass(m.x, ff, why);
+    if (fs != StepStatus::Ok) return m.fail(fs, why);
+    Impl::RefSlot& sl = m.slot(true);
+    if (!m.build_reference(sl.cur, m.solver.dt_s)) return m.fail(StepStatus::SolverFailure, "CHOLMOD factorisation at the settled state failed");
+    sl.use_cur = true;
+    last.refactorised = true;
   }
   // Dynamic time starts at t = 0 with the plate at z0 + U sin(phase).
   return last;

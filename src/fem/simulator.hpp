@@ -53,7 +53,7 @@ struct SolverConfig {
   int fast_max_iterations = 50;       // in [1, 1000]
   // Refactorise the stored factor at the current state when a step needed more than this many
   // PCG iterations in total.
-  int fast_refactor_iterations = 6;   // in [1, 1000]
+  int fast_refactor_iterations = 4;   // in [1, 1000]
   // Fast: an inactive candidate more than this below the plate after the solve enters the
   // active set (Exact: 1e-9 mm).
   double contact_tolerance_mm = 1e-4; // in (0, 0.1]
