@@ -162,9 +162,10 @@ StaticResult solve_static(const Model& model, const StaticLoads& loads, const st
   StaticResult res;
   res.positions = x0.size() == n ? x0 : model.rest_positions;
   Eigen::VectorXd& x = res.positions;
+  const Eigen::VectorXd x_start = x;
 
   // Round-off floor of the residual: a relative error ~64 ε_mach in the strain of every element
-  // gives nodal force errors ~16 ε E V ‖∇N‖ that add up randomly.
+  // gives nodal force errors ~64 ε E V ‖∇N‖ that add up randomly.
   double floor2 = 0.0;
   for (const TetRest& rest : model.rest) floor2 += std::pow(rest.volume * rest.grad.norm(), 2);
   const double residual_floor =
@@ -267,9 +268,9 @@ StaticResult solve_static(const Model& model, const StaticLoads& loads, const st
         }
       }
       x += alpha * du;
-      // Increment criterion: a Newton correction below rel_tolerance of the displacement means
-      // the residual sits at its round-off floor.
-      const double disp = (x - model.rest_positions).lpNorm<Eigen::Infinity>();
+      // Increment criterion: a Newton correction below rel_tolerance of the displacement made by
+      // this solve means the residual sits at its round-off floor.
+      const double disp = (x - x_start).lpNorm<Eigen::Infinity>();
       if (alpha * du.lpNorm<Eigen::Infinity>() <= options.rel_tolerance * disp) {
         res.residual_norm = free_norm(residual(x, lf, nullptr), fixed);
         step_converged = true;

@@ -43,7 +43,7 @@ struct StaticOptions {
   // Converged when ‖r_free‖ ≤ rel_tolerance · scale + abs_tolerance_uN + floor, where
   // scale = ‖f_ext,free‖ at the current load factor (‖element forces‖ if that is zero) and
   // floor = 64 ε_mach E sqrt(Σ_e (V_e ‖∇N_e‖)²) is the round-off level of the elastic forces;
-  // or when a Newton increment is ≤ rel_tolerance · max |x − X| (residual at its round-off floor).
+  // or when a Newton increment is ≤ rel_tolerance · max |x − x_start| (residual at its round-off floor).
   double rel_tolerance = 1e-9;
   double abs_tolerance_uN = 0.0;
   StaticTangent tangent = StaticTangent::Consistent;
