@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 
@@ -36,9 +37,8 @@ struct Reference {
   std::vector<Eigen::Matrix3d> node_rot;  // per free node
   double dt = 0.0;
   // A_ref⁻¹ e_d for unit loads along x, y, z at contact candidates (free-DOF vectors), computed
-  // on first use (has_cols) and kept until the next factorisation.
-  Eigen::MatrixXd cols[3];
-  std::vector<char> has_cols;
+  // on first use and kept until the next factorisation (empty: not computed yet).
+  std::vector<std::array<Eigen::VectorXd, 3>> cols;
   bool valid = false;
 };
 
@@ -255,8 +255,7 @@ struct Simulator::Impl {
     update_node_rotations();
     ref.node_rot = node_rot;
     const int m = static_cast<int>(model->contact_nodes.size());
-    for (auto& c : ref.cols) c.resize(3 * nfree, m);
-    ref.has_cols.assign(m, 0);
+    ref.cols.assign(m, {});
     return true;
   }
 
@@ -288,17 +287,17 @@ struct Simulator::Impl {
 
   // Makes sure the reference columns of candidate c exist.
   bool ensure_columns(Reference& ref, int c) {
-    if (ref.has_cols[c]) return true;
+    if (ref.cols[c][0].size() > 0) return true;
     const int k = free_index[model->contact_nodes[c]];
-    Eigen::VectorXd e = Eigen::VectorXd::Zero(3 * nfree), y(3 * nfree);
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(3 * nfree);
     for (int d = 0; d < 3; ++d) {
       e.setZero();
       e[3 * k + d] = 1.0;
+      Eigen::VectorXd y(3 * nfree);
       ref.factor.solve(e.data(), y.data());
       if (!y.allFinite()) return false;
-      ref.cols[d].col(c) = y;
+      ref.cols[c][d] = std::move(y);
     }
-    ref.has_cols[c] = 1;
     return true;
   }
 
@@ -505,8 +504,8 @@ struct Simulator::Impl {
       for (int a = 0; a < k; ++a) {
         if (!ensure_columns(ref, act[a])) return fail(StepStatus::SolverFailure, "non-finite reference solve");
         const Eigen::Vector3d dz = warp[free_index[cn[act[a]]]].transpose() * Eigen::Vector3d::UnitZ();
-        Eigen::VectorXd col = dz.x() * ref.cols[0].col(act[a]) + dz.y() * ref.cols[1].col(act[a]) +
-                              dz.z() * ref.cols[2].col(act[a]);
+        const auto& cc = ref.cols[act[a]];
+        Eigen::VectorXd col = dz.x() * cc[0] + dz.y() * cc[1] + dz.z() * cc[2];
         for (int qq = 0; qq < nfree; ++qq) col.segment<3>(3 * qq) = warp[qq] * col.segment<3>(3 * qq).eval();
         C.col(a) = col;
       }

@@ -14,19 +14,21 @@
 // Methods:
 //  * Exact: assemble A = M + dt C + dt² K(x) on the free DOFs and refactorise it with CHOLMOD
 //    every step; A⁻¹Jᵀ columns by extra solves.
-//  * Fast: a stored CHOLMOD factor of A_ref (assembled at the reset placement, or at the state of
-//    the last refactorisation), rotated by the change of base angle since then (exact for a
-//    rigid rotation: K = G K_ref Gᵀ), preconditions a conjugate-gradient solve of the true
-//    co-rotated system, applied matrix-free and warm-started from the previous velocity.
+//  * Fast: a stored CHOLMOD factor of A_ref (assembled at the reset placement, at the settled
+//    state at the end of settle(), and again whenever a step needs more than
+//    fast_refactor_iterations CG iterations), warped node by node — Q A_ref⁻¹ Qᵀ with
+//    Q_k = R_k R_k,refᵀ, R_k the average rotation of the elements at node k (exact for a rigid
+//    rotation: K = G K_ref Gᵀ) — preconditions a conjugate-gradient solve of the true
+//    co-rotated system, applied matrix-free and warm-started from the previous velocity (plus
+//    the rigid velocity change of the base).
 //    Contact is handled inside the solve as an active set: active nodes get their vertical
 //    velocity prescribed so they land on the plate (Dirichlet DOFs, projected out of the CG; the
 //    preconditioner is the exact inverse of A_ref restricted to the free DOFs, via the stored
 //    A_ref⁻¹ columns of the candidates), the multiplier is the reaction at that DOF,
 //    λ = (A v − b)_z / dt; nodes with λ < 0 are released, penetrating ones added, and the CG
 //    repeated until the set is stable — the same LCP as Exact, solved to the CG tolerance.
-//    When a step needs more than fast_refactor_iterations CG iterations, A_ref is refactorised
-//    at the current state. Equilibria do not depend on the tolerance; transients do, by
-//    O(fast_tolerance) (bench fem prints the measured difference).
+//    Equilibria do not depend on the tolerance; transients do, by O(fast_tolerance) (bench fem
+//    prints the measured difference).
 // Failures (non-finite state, inverted element, factorisation failure, LCP failure) are returned
 // as a status; the simulator is then unusable until reset().
 #include <memory>
@@ -82,7 +84,8 @@ class Simulator {
   // motion only starts with step()).
   void reset();
   // Quasi-static loading: `settle_steps` static steps raising the plate from z_touch to z0
-  // (with the current pressures and gravity), then zero velocity. t stays 0.
+  // (with the current pressures and gravity) and 5 more at z0, then zero velocity. t stays 0.
+  // Fast method: ends with a factorisation of the dynamic system at the settled state.
   StepResult settle();
   // One static step: the same linearised solve with dt = static_dt_s, time and plate frozen,
   // velocity zeroed afterwards (a damped Newton iteration towards equilibrium).
