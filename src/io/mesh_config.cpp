@@ -19,7 +19,9 @@ fem::WhiskerGeometry read_geometry(TableReader& root) {
     try {
       fem::validate(trial);
     } catch (const std::invalid_argument& e) {
-      t.fail("length_mm", std::string("the geometry cannot hold design ") + std::to_string(j) + ": " + e.what());
+      // Not one key's fault: name the table and the keys involved.
+      throw InputError(t.file() + ": [geometry] (length_mm, base_diameter_mm, tip_diameter_mm, proximal_cap_mm) " +
+                       "cannot hold design " + std::to_string(j) + " of the design space: " + e.what());
     }
   }
   return g;
