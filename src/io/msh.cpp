@@ -1,5 +1,7 @@
 #include "io/msh.hpp"
 
+#include "io/atomic_file.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
@@ -394,23 +396,7 @@ void write_msh(std::ostream& out, const TetMesh& m) {
 }
 
 void write_msh_file(const std::string& path, const TetMesh& m) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot open " + tmp + " for writing");
-    write_msh(out, m);
-    out.flush();
-    if (!out) {
-      std::filesystem::remove(tmp);
-      throw std::runtime_error("writing " + tmp + " failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp);
-    throw std::runtime_error("cannot rename " + tmp + " to " + path + ": " + ec.message());
-  }
+  write_file_atomically(path, [&](std::ostream& out) { write_msh(out, m); });
 }
 
 TetMesh read_msh(std::istream& in, const std::string& label) {

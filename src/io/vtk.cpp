@@ -1,5 +1,7 @@
 #include "io/vtk.hpp"
 
+#include "io/atomic_file.hpp"
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -72,29 +74,7 @@ void write_vtu(std::ostream& out, const fem::TetMesh& m, const VtkFields& f) {
 }
 
 void write_vtu_file(const std::string& path, const fem::TetMesh& m, const VtkFields& fields) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot open " + tmp + " for writing");
-    try {
-      write_vtu(out, m, fields);
-    } catch (...) {
-      out.close();
-      std::filesystem::remove(tmp);
-      throw;
-    }
-    out.flush();
-    if (!out) {
-      std::filesystem::remove(tmp);
-      throw std::runtime_error("writing " + tmp + " failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp);
-    throw std::runtime_error("cannot rename " + tmp + " to " + path + ": " + ec.message());
-  }
+  write_file_atomically(path, [&](std::ostream& out) { write_vtu(out, m, fields); });
 }
 
 }  // namespace codesign::io

@@ -1,0 +1,15 @@
+#pragma once
+// Writes a whole file so that readers see either the old file or the complete new one, never a
+// half-written one: the content goes to PATH.tmp, which is renamed over PATH only after it was
+// written and flushed without error. On any failure the temporary file is removed and the
+// error is rethrown (std::runtime_error for I/O failures).
+#include <functional>
+#include <ostream>
+#include <string>
+
+namespace codesign::io {
+
+void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write,
+                           bool binary = false);
+
+}  // namespace codesign::io
