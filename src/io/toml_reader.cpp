@@ -23,7 +23,15 @@ std::string format_number(double v) {
 }
 
 std::string range_text(double lo, double hi) {
-  return "[" + format_number(lo) + ", " + format_number(hi) + "]";
+  std::ostringstream os;
+  os << '[' << lo << ", " << hi << ']';
+  return os.str();
+}
+
+std::string range_text(std::int64_t lo, std::int64_t hi) {
+  std::ostringstream os;
+  os << '[' << lo << ", " << hi << ']';
+  return os.str();
 }
 
 std::string type_name(const toml::node& n) {
@@ -114,7 +122,7 @@ std::int64_t TableReader::integer(std::string_view key, std::int64_t def, std::i
   const auto* node = static_cast<const toml::node*>(lookup(key));
   if (node == nullptr) return def;
   auto i = node->value_exact<std::int64_t>();
-  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  const std::string range = range_text(lo, hi);
   if (!i) fail(key, "expected an integer in " + range + ", got " + type_name(*node));
   if (*i < lo || *i > hi) {
     fail(key, "value " + std::to_string(*i) + " is out of range; allowed " + range);
@@ -185,7 +193,7 @@ std::vector<std::int64_t> TableReader::integers(std::string_view key,
                                                 std::size_t max_len) {
   const auto* node = static_cast<const toml::node*>(lookup(key));
   if (node == nullptr) return def;
-  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  const std::string range = range_text(lo, hi);
   const std::string shape = "an array of " + std::to_string(min_len) + " to " +
                             std::to_string(max_len) + " integers in " + range;
   const auto* arr = node->as_array();
