@@ -1,4 +1,3 @@
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12 + Eigen AVX-512 (bug 105593)
 // `codesign bench ppo`: wall time of one PPO iteration at the paper's sizes, on one thread.
 //
 // One iteration = the policy/value forward passes of a rollout (40 envs x 50 steps = 2000

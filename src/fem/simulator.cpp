@@ -1,6 +1,3 @@
-// gcc 12 reports a false "may be used uninitialized" inside its AVX-512 intrinsics when Eigen's
-// dynamic-size kernels are inlined here (-march=native); the warning is not about this code.
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include "fem/simulator.hpp"
 
 #include <Eigen/Dense>

@@ -1,7 +1,3 @@
-// GCC 12 reports false -Wmaybe-uninitialized inside its own AVX-512 intrinsics when Eigen
-// vectorises with -march=native (GCC bug 105593); silence it for this file only.
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-
 #include "rl/mlp.hpp"
 
 #include <cmath>

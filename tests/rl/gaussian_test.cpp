@@ -1,4 +1,3 @@
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12 + Eigen AVX-512 (bug 105593)
 #include "rl/gaussian.hpp"
 
 #include <cmath>

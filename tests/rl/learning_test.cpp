@@ -1,4 +1,3 @@
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12 + Eigen AVX-512 (bug 105593)
 // A cheap end-to-end learning check (the Pendulum benchmark is the real proof, run by script).
 //
 // Task: a contextual bandit. Each episode is one step: observe s ~ U(-1, 1), act a, receive

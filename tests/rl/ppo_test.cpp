@@ -1,5 +1,3 @@
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12 + Eigen AVX-512 (bug 105593)
-#pragma GCC diagnostic ignored "-Wuninitialized"       // same GCC 12 bug, non-"maybe" form
 #include "rl/ppo.hpp"
 
 #include <cmath>
