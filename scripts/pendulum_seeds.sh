@@ -5,12 +5,12 @@
 # Exits 0 only if at least 4 of the 5 seeds reach a mean return >= -250.
 #
 #   scripts/pendulum_seeds.sh [path/to/codesign] [output dir]
-# Defaults: build/codesign (or $CODESIGN_BIN), runs/pendulum_seeds/<UTC timestamp> (a fresh
+# Defaults: build/release/codesign (or $CODESIGN_BIN), runs/pendulum_seeds/<UTC timestamp> (a fresh
 # directory, so earlier results are never overwritten).
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-bin="${1:-${CODESIGN_BIN:-$here/build/codesign}}"
+bin="${1:-${CODESIGN_BIN:-$here/build/release/codesign}}"
 out="${2:-$here/runs/pendulum_seeds/$(date -u +%Y%m%dT%H%M%SZ)}"
 config="$here/configs/pendulum.toml"
 threshold=-250
