@@ -178,6 +178,18 @@ void tag_boundary(TetMesh& m, int chambers, const Classifier& classify) {
 
 double radial(const Eigen::Vector3d& p) { return std::hypot(p.y(), p.z()); }
 
+// Meshes the current gmsh model with one element size everywhere (validation primitives),
+// using the default optimiser threshold and quality thresholds.
+TetMesh generate_uniform(double size) {
+  const MeshOptions defaults;
+  return generate_with_retries(
+      [size](double scale) {
+        const double h = scale * size;
+        return SizeSpec{[h](double, double, double) { return h; }, 0.5 * h, h};
+      },
+      defaults.optimise_threshold, defaults.quality);
+}
+
 }  // namespace
 
 TetMesh mesh_whisker(const WhiskerGeometry& g, const MeshOptions& opt) {
@@ -242,13 +254,7 @@ TetMesh mesh_cylinder(double radius, double length, double size) {
     gmsh::model::occ::addCylinder(0, 0, 0, length, 0, 0, radius);
     gmsh::model::occ::synchronize();
   });
-  const MeshOptions defaults;
-  TetMesh m = generate_with_retries(
-      [size](double scale) {
-        const double h = scale * size;
-        return SizeSpec{[h](double, double, double) { return h; }, 0.5 * h, h};
-      },
-      defaults.optimise_threshold, defaults.quality);
+  TetMesh m = generate_uniform(size);
   const double tol = 1e-6 * length;
   tag_boundary(m, 0, [&](const Eigen::Vector3d& c) {
     if (std::abs(c.x()) < tol) return 0;
@@ -272,13 +278,7 @@ TetMesh mesh_hollow_cylinder(double r_in, double r_out, double length, double si
     occ::cut({{3, outer}}, {{3, inner}}, out, map);
     occ::synchronize();
   });
-  const MeshOptions defaults;
-  TetMesh m = generate_with_retries(
-      [size](double scale) {
-        const double h = scale * size;
-        return SizeSpec{[h](double, double, double) { return h; }, 0.5 * h, h};
-      },
-      defaults.optimise_threshold, defaults.quality);
+  TetMesh m = generate_uniform(size);
   const double tol = 1e-6 * length;
   const double mid = 0.5 * (r_in + r_out);
   tag_boundary(m, 1, [&](const Eigen::Vector3d& c) {
