@@ -2,34 +2,19 @@
 // with one message naming file, key and range, exit status 2, and no earlier output touched.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include "run_binary.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status = -1;
-  std::string out;  // stdout and stderr together
-};
-
-Result run(const std::string& args) {
-  const std::string cmd = std::string(CODESIGN_BINARY) + " " + args + " 2>&1";
-  Result r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (p == nullptr) return r;
-  char buf[4096];
-  while (std::fgets(buf, sizeof buf, p) != nullptr) r.out += buf;
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+using codesign::test::run_codesign;
+using Result = codesign::test::RunResult;
 
 fs::path scratch(const std::string& name) {
   fs::path d = fs::temp_directory_path() / ("codesign_cli_" + name + "_" + std::to_string(::getpid()));
@@ -67,48 +52,48 @@ TEST(Cli, ShippedRunConfigsAreValid) {
     }
     const fs::path cfg = dir / (name + ".toml");
     write(cfg, text);
-    const Result r = run("--config " + cfg.string() + " -o " + (dir / name).string());
-    EXPECT_EQ(r.status, 0) << r.out;
-    EXPECT_TRUE(fs::exists(dir / name / "trace.csv")) << r.out;
+    const Result r = run_codesign("--config " + cfg.string() + " -o " + (dir / name).string());
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(fs::exists(dir / name / "trace.csv")) << r.output;
   }
 }
 
 TEST(Cli, BadValueStopsWithOneMessageAndKeepsEarlierOutput) {
   const fs::path dir = scratch("bad");
   write(dir / "good.toml", "[sim]\nsteps = 2\n");
-  ASSERT_EQ(run("sim --config " + (dir / "good.toml").string() + " -o " + (dir / "out").string()).status, 0);
+  ASSERT_EQ(run_codesign("sim --config " + (dir / "good.toml").string() + " -o " + (dir / "out").string()).status, 0);
   const std::string before = slurp(dir / "out" / "trace.csv");
   ASSERT_FALSE(before.empty());
 
   write(dir / "bad.toml", "[material]\npoisson_ratio = 0.7\n");
-  const Result r = run("sim --force --config " + (dir / "bad.toml").string() + " -o " + (dir / "out").string());
+  const Result r = run_codesign("sim --force --config " + (dir / "bad.toml").string() + " -o " + (dir / "out").string());
   EXPECT_EQ(r.status, 2);
-  EXPECT_EQ(count_lines(r.out), 1) << r.out;
-  EXPECT_NE(r.out.find("bad.toml: material.poisson_ratio"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("[0, 0.49]"), std::string::npos) << r.out;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find("bad.toml: material.poisson_ratio"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("[0, 0.49]"), std::string::npos) << r.output;
   EXPECT_EQ(slurp(dir / "out" / "trace.csv"), before);
 }
 
 TEST(Cli, UnknownKeyIsRejected) {
   const fs::path dir = scratch("unknown");
   write(dir / "typo.toml", "[scene]\ninclinaton_deg = 30\n");
-  const Result r = run("--config " + (dir / "typo.toml").string() + " -o " + (dir / "out").string());
+  const Result r = run_codesign("--config " + (dir / "typo.toml").string() + " -o " + (dir / "out").string());
   EXPECT_EQ(r.status, 2);
-  EXPECT_NE(r.out.find("typo.toml: scene.inclinaton_deg: unknown key"), std::string::npos) << r.out;
+  EXPECT_NE(r.output.find("typo.toml: scene.inclinaton_deg: unknown key"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "out" / "trace.csv"));
 }
 
 TEST(Cli, MissingConfigFile) {
-  const Result r = run("--config /nonexistent/run.toml");
+  const Result r = run_codesign("--config /nonexistent/run.toml");
   EXPECT_EQ(r.status, 2);
-  EXPECT_NE(r.out.find("/nonexistent/run.toml: cannot open config file"), std::string::npos) << r.out;
+  EXPECT_NE(r.output.find("/nonexistent/run.toml: cannot open config file"), std::string::npos) << r.output;
 }
 
 TEST(Cli, BadFlagsExitNonZero) {
-  EXPECT_EQ(run("mesh --design 110 -o /tmp/never.msh").status, 2);
-  EXPECT_EQ(run("no-such-command").status, 2);
-  EXPECT_EQ(run("").status, 2);
-  EXPECT_EQ(run("--help").status, 0);
+  EXPECT_EQ(run_codesign("mesh --design 110 -o /tmp/never.msh").status, 2);
+  EXPECT_EQ(run_codesign("no-such-command").status, 2);
+  EXPECT_EQ(run_codesign("").status, 2);
+  EXPECT_EQ(run_codesign("--help").status, 0);
 }
 
 }  // namespace

@@ -1,36 +1,20 @@
 #include <gtest/gtest.h>
 
-#include <array>
-#include <cstdio>
 #include <string>
-
-#include <sys/wait.h>
 
 #include "fem/mesh_quality.hpp"
 #include "io/msh.hpp"
 #include "../mesh/test_util.hpp"
+#include "run_binary.hpp"
 
 using namespace codesign;
 
 namespace {
 
-struct Result {
-  int status;
-  std::string output;
-};
+using Result = test::RunResult;
 
 // CMake builds the `codesign` binary before test_cli, so a missing binary is a failure.
 #define REQUIRE_BINARY() ASSERT_TRUE(std::filesystem::exists(CODESIGN_BINARY)) << CODESIGN_BINARY
-
-Result run(const std::string& args) {
-  const std::string cmd = std::string(CODESIGN_BINARY) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 512> buf;
-  while (p && fgets(buf.data(), buf.size(), p)) out += buf.data();
-  const int st = p ? pclose(p) : -1;
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
-}
 
 }  // namespace
 
@@ -38,7 +22,7 @@ TEST(CmdMesh, WritesMshThatReadsBack) {
   REQUIRE_BINARY();
   const auto dir = test::scratch_dir();
   const std::string msh = (dir / "j21.msh").string(), vtu = (dir / "j21.vtu").string();
-  const Result r = run("mesh --design 21 -o " + msh + " --vtk " + vtu + " --check");
+  const Result r = test::run_codesign("mesh --design 21 -o " + msh + " --vtk " + vtu + " --check");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("j21 {n=1, l=28 mm, w=2.5 mm}"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("PASS"), std::string::npos) << r.output;
@@ -52,9 +36,9 @@ TEST(CmdMesh, WritesMshThatReadsBack) {
 
 TEST(CmdMesh, BadDesignIndexIsAnInputError) {
   REQUIRE_BINARY();
-  const Result r = run("mesh --design 110 -o x.msh");
+  const Result r = test::run_codesign("mesh --design 110 -o x.msh");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("--design 110: allowed range 0..109"), std::string::npos) << r.output;
-  EXPECT_EQ(run("mesh --design -1").status, 2);
-  EXPECT_EQ(run("mesh").status, 2);
+  EXPECT_EQ(test::run_codesign("mesh --design -1").status, 2);
+  EXPECT_EQ(test::run_codesign("mesh").status, 2);
 }
