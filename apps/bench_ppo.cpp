@@ -6,16 +6,24 @@
 // target_kl is disabled so all 10 epochs run (the cost ceiling); the run with target_kl 0.02 is
 // printed too but depends on how soon the KL limit trips.
 // GFLOP/s counts only the GEMMs of the forward and backward passes (2 flops per multiply-add).
-// Baselines in the same run, on the dominant GEMM shape: Eigen's product and a textbook triple
-// loop against rl::sgemm (the kernel the MLP uses); and the same minibatch pass in float64 (Eigen).
+// The iteration runs with the matrix-product precision a training run would use ("auto": bf16
+// operands with float32 sums where the CPU has AVX-512 BF16, else float32; --precision
+// overrides). Baselines in the same run: the same iteration with float32 products (rl::sgemm)
+// and with Eigen's products only; on the dominant GEMM shape, Eigen, rl::sgemm, rl::gemm_bf16
+// and a textbook triple loop; and one minibatch pass in float64 (Eigen).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
+
+#if defined(__AVX512BF16__)
+#include <immintrin.h>
+#endif
 
 #include "commands.hpp"
 #include "rl/gemm.hpp"
@@ -66,6 +74,32 @@ double peak_fma_gflops() {
   return 2.0 * 16 * kChains * static_cast<double>(iters) / t * 1e-9;
 }
 
+// Measured single-core bf16 dot-product peak (vdpbf16ps: 32 multiply-adds per instruction);
+// 0 when the build has no AVX-512 BF16.
+__attribute__((noinline)) double peak_bf16_gflops() {
+#if defined(__AVX512BF16__)
+  constexpr int kChains = 16;
+  __m512 acc[kChains];
+  for (int c = 0; c < kChains; ++c) acc[c] = _mm512_set1_ps(1e-3f * float(c));
+  const __m512bh a = (__m512bh)_mm512_set1_epi32(0x3f803f80);  // (1, 1)
+  const __m512bh b = (__m512bh)_mm512_set1_epi32(0x33803380);  // (2^-24, 2^-24)
+  const long iters = 20'000'000;
+  const double t0 = thread_cpu_seconds();
+  for (long i = 0; i < iters; ++i) {
+#pragma GCC unroll 16
+    for (int c = 0; c < kChains; ++c) acc[c] = _mm512_dpbf16_ps(acc[c], a, b);
+    asm volatile("" ::"v"(a));  // keep the loop from being folded
+  }
+  const double t = thread_cpu_seconds() - t0;
+  float sink = 0;
+  for (int c = 0; c < kChains; ++c) sink += acc[c][0];
+  if (!std::isfinite(sink)) std::printf("(bf16 peak loop overflowed)\n");
+  return 2.0 * 32 * kChains * static_cast<double>(iters) / t * 1e-9;
+#else
+  return 0.0;
+#endif
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
@@ -78,7 +112,12 @@ struct BenchOptions {
   int n_steps = 50;
   int hidden = 512;
   bool with_kl = true;
+  std::string precision = "auto";  // auto | float32 | bf16
 };
+
+const char* describe(rl::MatmulPrecision p) {
+  return p == rl::MatmulPrecision::BFloat16 ? "bf16 operands, float32 sums" : "float32";
+}
 
 struct IterationTimes {
   double rollout = 0, gae = 0, update = 0;
@@ -160,72 +199,98 @@ double minibatch_pass_seconds(int hidden, int batch, int reps) {
   return median(times);
 }
 
+// Median times of `reps` iterations (after one warm-up) of a fresh model with the given
+// product precision / GEMM choice.
+struct Measured {
+  double wall = 0, cpu = 0, rollout = 0, update = 0;
+};
+Measured measure(const rl::PpoConfig& cfg, int n_envs, int reps, rl::MatmulPrecision precision,
+                 bool fast_gemm) {
+  rl::Rng rng(2024);
+  rl::ActorCritic model(6, 1, cfg.actor_hidden, cfg.critic_hidden);
+  model.init_orthogonal(rng);
+  model.set_fast_gemm(fast_gemm);
+  model.set_matmul_precision(precision);
+  rl::Adam adam = rl::make_adam(cfg);
+  run_iteration(model, adam, cfg, n_envs, rng);  // warm-up (allocations, page faults)
+  std::vector<double> total, cpu, rollout, update;
+  for (int r = 0; r < reps; ++r) {
+    const IterationTimes t = run_iteration(model, adam, cfg, n_envs, rng);
+    total.push_back(t.total());
+    cpu.push_back(t.cpu);
+    rollout.push_back(t.rollout);
+    update.push_back(t.update);
+  }
+  return {median(total), median(cpu), median(rollout), median(update)};
+}
+
 int run_bench(const BenchOptions& o) {
   Eigen::setNbThreads(1);
   rl::PpoConfig cfg = rl::paper_ppo_config();
   cfg.n_steps = o.n_steps;
   cfg.actor_hidden = cfg.critic_hidden = {o.hidden, o.hidden, o.hidden};
   const int samples = o.n_envs * o.n_steps;
+  if (o.precision == "bf16" && !rl::bf16_gemm_available()) {
+    std::fprintf(stderr, "codesign: error: bench ppo: --precision bf16 needs AVX-512 BF16, which "
+                         "this build/CPU does not have; allowed here: auto, float32\n");
+    return 2;
+  }
+  const rl::MatmulPrecision precision =
+      o.precision == "float32" ? rl::MatmulPrecision::Float32
+      : o.precision == "bf16"  ? rl::MatmulPrecision::BFloat16
+      : (rl::bf16_gemm_available() ? rl::MatmulPrecision::BFloat16 : rl::MatmulPrecision::Float32);
 
-  std::printf("PPO iteration benchmark (one thread, float32, Eigen %d.%d.%d, SIMD: %s)\n",
+  std::printf("PPO iteration benchmark (one thread, Eigen %d.%d.%d, SIMD: %s)\n",
               EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION,
               Eigen::SimdInstructionSetsInUse());
   std::printf("  %d envs x %d steps = %d samples, obs 6, act 1, actor/critic [%d, %d, %d], "
               "batch %d, %d epochs\n",
               o.n_envs, o.n_steps, samples, o.hidden, o.hidden, o.hidden, cfg.batch_size,
               cfg.n_epochs);
-
-  rl::Rng rng(2024);
-  rl::ActorCritic model(6, 1, cfg.actor_hidden, cfg.critic_hidden);
-  model.init_orthogonal(rng);
-  std::printf("  parameters: %lld (actor %lld, critic %lld, log_std %lld)\n",
-              static_cast<long long>(model.num_params()),
-              static_cast<long long>(model.actor().num_params()),
-              static_cast<long long>(model.critic().num_params()),
-              static_cast<long long>(model.log_std().size()));
+  std::printf("  matrix products: %s (--precision %s; training's default is auto)\n",
+              describe(precision), o.precision.c_str());
+  {
+    rl::ActorCritic probe(6, 1, cfg.actor_hidden, cfg.critic_hidden);
+    std::printf("  parameters: %lld (actor %lld, critic %lld, log_std %lld)\n",
+                static_cast<long long>(probe.num_params()),
+                static_cast<long long>(probe.actor().num_params()),
+                static_cast<long long>(probe.critic().num_params()),
+                static_cast<long long>(probe.log_std().size()));
+  }
 
   // target_kl disabled: all epochs run.
   cfg.target_kl.reset();
-  rl::Adam adam = rl::make_adam(cfg);
-  run_iteration(model, adam, cfg, o.n_envs, rng);  // warm-up (allocations, page faults)
-  std::vector<double> total, rollout, update, cpu;
-  for (int r = 0; r < o.reps; ++r) {
-    const IterationTimes t = run_iteration(model, adam, cfg, o.n_envs, rng);
-    total.push_back(t.total());
-    cpu.push_back(t.cpu);
-    rollout.push_back(t.rollout);
-    update.push_back(t.update);
-  }
-  const double flops = iteration_flops(model, samples, cfg.n_epochs);
-  const double med = median(total);
+  rl::ActorCritic counter(6, 1, cfg.actor_hidden, cfg.critic_hidden);
+  const double flops = iteration_flops(counter, samples, cfg.n_epochs);
+  const Measured main_run = measure(cfg, o.n_envs, o.reps, precision, true);
+  const double med = main_run.wall;
   std::printf("\n  target_kl off (all %d epochs), median of %d:\n", cfg.n_epochs, o.reps);
   std::printf("    iteration      %.3f s   (rollout forwards %.3f s, update %.3f s)\n", med,
-              median(rollout), median(update));
-  std::printf("    thread CPU     %.3f s\n", median(cpu));
+              main_run.rollout, main_run.update);
+  std::printf("    thread CPU     %.3f s\n", main_run.cpu);
   std::printf("    GEMM work      %.1f GFLOP  ->  %.1f GFLOP/s (wall), %.1f GFLOP/s (CPU time)\n",
-              flops * 1e-9, flops * 1e-9 / med, flops * 1e-9 / median(cpu));
+              flops * 1e-9, flops * 1e-9 / med, flops * 1e-9 / main_run.cpu);
   std::printf("    goal 0.8 s:    %s (needs %.0f GFLOP/s)\n", med <= 0.8 ? "met" : "NOT met",
               flops * 1e-9 / 0.8);
 
+  const int base_reps = std::min(o.reps, 3);
+  if (precision == rl::MatmulPrecision::BFloat16) {
+    const Measured f32 = measure(cfg, o.n_envs, base_reps, rl::MatmulPrecision::Float32, true);
+    std::printf("\n  baseline, same iteration with float32 products (rl::sgemm), median of %d:\n",
+                base_reps);
+    std::printf("    iteration      %.3f s wall, %.3f s CPU -> %.1f GFLOP/s (CPU time)\n",
+                f32.wall, f32.cpu, flops * 1e-9 / f32.cpu);
+    std::printf("    bf16 products are %.2fx faster (CPU time; %.2fx wall)\n",
+                f32.cpu / main_run.cpu, f32.wall / med);
+  }
   {
-    // Baseline: the same iteration with Eigen's GEMM everywhere (no rl::sgemm).
-    rl::Rng rng_b(2024);
-    rl::ActorCritic eigen_model(6, 1, cfg.actor_hidden, cfg.critic_hidden);
-    eigen_model.init_orthogonal(rng_b);
-    eigen_model.set_fast_gemm(false);
-    rl::Adam adam_b = rl::make_adam(cfg);
-    std::vector<double> tb, cb;
-    for (int r = 0; r < std::min(o.reps, 3); ++r) {
-      const IterationTimes t = run_iteration(eigen_model, adam_b, cfg, o.n_envs, rng_b);
-      tb.push_back(t.total());
-      cb.push_back(t.cpu);
-    }
-    const double base = median(tb), base_cpu = median(cb);
-    std::printf("\n  baseline, same iteration with Eigen's GEMM only (median of %zu):\n", tb.size());
-    std::printf("    iteration      %.3f s wall, %.3f s CPU -> %.1f GFLOP/s (CPU time)\n", base,
-                base_cpu, flops * 1e-9 / base_cpu);
-    std::printf("    rl::sgemm path is %.2fx faster (CPU time; %.2fx wall)\n",
-                base_cpu / median(cpu), base / med);
+    const Measured eig = measure(cfg, o.n_envs, base_reps, rl::MatmulPrecision::Float32, false);
+    std::printf("\n  baseline, same iteration with Eigen's float32 GEMM only, median of %d:\n",
+                base_reps);
+    std::printf("    iteration      %.3f s wall, %.3f s CPU -> %.1f GFLOP/s (CPU time)\n",
+                eig.wall, eig.cpu, flops * 1e-9 / eig.cpu);
+    std::printf("    the measured configuration is %.2fx faster (CPU time; %.2fx wall)\n",
+                eig.cpu / main_run.cpu, eig.wall / med);
   }
 
   if (o.with_kl) {
@@ -233,6 +298,7 @@ int run_bench(const BenchOptions& o) {
     rl::Rng rng_kl(7);
     rl::ActorCritic fresh(6, 1, cfg.actor_hidden, cfg.critic_hidden);
     fresh.init_orthogonal(rng_kl);
+    fresh.set_matmul_precision(precision);
     rl::Adam adam_kl = rl::make_adam(cfg);
     const IterationTimes t = run_iteration(fresh, adam_kl, cfg, o.n_envs, rng_kl);
     std::printf("\n  target_kl 0.02 (fresh policy, synthetic rewards), one run:\n");
@@ -259,6 +325,13 @@ int run_bench(const BenchOptions& o) {
     rl::sgemm(false, false, m, n, k, a.data(), m, b.data(), k, cf.data(), m, ws);
     tf.push_back(seconds_since(t0));
   }
+  std::vector<double> tb16;
+  Eigen::MatrixXf cb(m, n);
+  for (int r = 0; r < (rl::bf16_gemm_available() ? 5 : 0); ++r) {
+    auto t0 = Clock::now();
+    rl::gemm_bf16(false, false, m, n, k, a.data(), m, b.data(), k, cb.data(), m, ws);
+    tb16.push_back(seconds_since(t0));
+  }
   const float check = c(0, 0);
   for (int r = 0; r < 3; ++r) {
     auto t0 = Clock::now();
@@ -267,9 +340,14 @@ int run_bench(const BenchOptions& o) {
   }
   const double ge = gemm_flops / median(te) * 1e-9, gn = gemm_flops / median(tn) * 1e-9;
   const double peak = peak_fma_gflops();
+  const double peak16 = peak_bf16_gflops();
   std::printf("\n  ceiling: measured fp32 FMA peak of this core %.1f GFLOP/s -> an iteration "
-              "needs >= %.2f s\n",
+              "needs >= %.2f s in float32\n",
               peak, flops * 1e-9 / peak);
+  if (peak16 > 0)
+    std::printf("           measured bf16 dot-product peak %.1f GFLOP/s -> >= %.2f s with bf16 "
+                "products\n",
+                peak16, flops * 1e-9 / peak16);
   std::printf("\n  baseline, GEMM %d x %d x %d:\n", m, k, n);
   std::printf("    Eigen          %.1f GFLOP/s (%.0f%% of peak; at this rate an iteration is "
               "%.2f s of pure GEMM)\n",
@@ -279,6 +357,11 @@ int run_bench(const BenchOptions& o) {
     std::printf("    rl::sgemm      %.1f GFLOP/s (%.0f%% of peak; used for the large layers) -> "
                 "%.2fx Eigen\n",
                 gf, 100 * gf / peak, gf / ge);
+  }
+  if (!tb16.empty()) {
+    const double gb = gemm_flops / median(tb16) * 1e-9;
+    std::printf("    rl::gemm_bf16  %.1f GFLOP/s (%.0f%% of the bf16 peak) -> %.2fx Eigen\n", gb,
+                100 * gb / peak16, gb / ge);
   }
   std::printf("    naive loops    %.1f GFLOP/s   -> Eigen is %.1fx faster%s\n", gn, ge / gn,
               std::abs(c(0, 0) - check) < 1e-3f * (1 + std::abs(check)) ? "" : " (MISMATCH!)");
@@ -306,6 +389,9 @@ void add_bench_ppo_command(CLI::App& bench, Runner& run) {
   cmd->add_option("--hidden", opts->hidden, "Width of each of the three hidden layers")
       ->check(CLI::Range(1, 8192));
   cmd->add_flag("!--no-kl-run", opts->with_kl, "Skip the extra run with target_kl 0.02");
+  cmd->add_option("--precision", opts->precision,
+                  "Matrix products: auto (bf16 where available), float32 or bf16")
+      ->check(CLI::IsMember({"auto", "float32", "bf16"}));
   cmd->callback([opts, &run] { run = [opts] { return run_bench(*opts); }; });
 }
 

@@ -18,6 +18,11 @@ std::vector<std::int64_t> to_int64(const std::vector<int>& v) {
 
 }  // namespace
 
+rl::MatmulPrecision default_matmul_precision() {
+  return rl::bf16_gemm_available() ? rl::MatmulPrecision::BFloat16
+                                   : rl::MatmulPrecision::Float32;
+}
+
 rl::PpoConfig read_ppo_config(TableReader& t, const rl::PpoConfig& d) {
   rl::PpoConfig c;
   c.learning_rate = t.number("learning_rate", d.learning_rate, 1e-9, 1.0);
@@ -55,6 +60,14 @@ rl::PpoConfig read_ppo_config(TableReader& t, const rl::PpoConfig& d) {
       to_int(t.integers("critic_hidden", to_int64(d.critic_hidden), 1, 8192, 1, 16));
   c.log_std_init = t.number("log_std_init", d.log_std_init, -20.0, 5.0);
   c.adam_eps = t.number("adam_eps", d.adam_eps, 1e-20, 1.0);
+  const std::string precision =
+      t.string("matmul_precision", "auto", {"auto", "float32", "bf16"});
+  if (precision == "bf16" && !rl::bf16_gemm_available())
+    t.fail("matmul_precision", "value \"bf16\" needs AVX-512 BF16, which this build/CPU does "
+                               "not have; allowed here: \"auto\", \"float32\"");
+  c.matmul_precision = precision == "float32" ? rl::MatmulPrecision::Float32
+                       : precision == "bf16"  ? rl::MatmulPrecision::BFloat16
+                                              : default_matmul_precision();
   return c;
 }
 

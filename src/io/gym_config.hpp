@@ -31,11 +31,16 @@ struct GymTrainConfig {
 // Reads the keys of a [ppo] table over `defaults`:
 //   learning_rate, n_steps, batch_size, n_epochs, gamma, gae_lambda, clip_range, ent_coef,
 //   ent_decay_start, ent_decay_end, vf_coef, max_grad_norm, target_kl, normalize_advantage,
-//   actor_hidden, critic_hidden, log_std_init, adam_eps.
+//   actor_hidden, critic_hidden, log_std_init, adam_eps, matmul_precision.
+// matmul_precision is "auto" (the default, whatever `defaults` says: bf16 where the CPU has
+// AVX-512 BF16, else float32), "float32" or "bf16" (an error where unavailable).
 // Absent optional fields (target_kl, ent_decay_*) keep the default's value. Cross-field rules
 // (ent_decay_start < ent_decay_end, both or neither) are checked here too. Does NOT call
 // table.finish(): a caller may read extra keys from the same table, then must call finish().
 rl::PpoConfig read_ppo_config(TableReader& table, const rl::PpoConfig& defaults = {});
+
+// What "auto" resolves to on this build/CPU.
+rl::MatmulPrecision default_matmul_precision();
 
 // Reads a whole train-gym config (and finishes every table).
 GymTrainConfig read_gym_config(TableReader& root);

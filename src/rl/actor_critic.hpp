@@ -91,6 +91,12 @@ class ActorCriticT {
     critic_.set_fast_gemm(on);
   }
 
+  // Arithmetic of the large products in both networks (see MlpT::set_matmul_precision).
+  void set_matmul_precision(MatmulPrecision p) {
+    actor_.set_matmul_precision(p);
+    critic_.set_matmul_precision(p);
+  }
+
   // A zero gradient of the right sizes.
   Grad zero_grad() const;
   // Parameter/gradient blocks for AdamT::step, in the order actor, critic, log_std.

@@ -38,7 +38,9 @@ class AdamT {
 
   // One update of every block with learning rate lr. Throws std::invalid_argument if the block
   // sizes differ from the first call.
-  void step(std::span<const AdamBlock<S>> blocks, double lr);
+  // grad_scale multiplies every gradient on the fly (global gradient-norm clipping folded into
+  // the same pass over memory; 1 = no scaling).
+  void step(std::span<const AdamBlock<S>> blocks, double lr, double grad_scale = 1.0);
 
   std::int64_t step_count() const { return t_; }
   const AdamConfig& config() const { return config_; }

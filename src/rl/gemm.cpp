@@ -21,6 +21,7 @@ constexpr Eigen::Index kKc = 256;
 void micro_kernel(Eigen::Index kc, const float* pa, const float* pb, float* c, Eigen::Index ldc,
                   bool accumulate) {
   __m512 c0[kNr], c1[kNr];
+#pragma GCC unroll 12  // unrolled, so that GCC keeps the tile in registers instead of memset
   for (int j = 0; j < kNr; ++j) {
     c0[j] = _mm512_setzero_ps();
     c1[j] = _mm512_setzero_ps();
@@ -36,6 +37,7 @@ void micro_kernel(Eigen::Index kc, const float* pa, const float* pb, float* c, E
       c1[j] = _mm512_fmadd_ps(a1, bj, c1[j]);
     }
   }
+#pragma GCC unroll 12
   for (int j = 0; j < kNr; ++j) {
     float* cj = c + j * ldc;
     if (accumulate) {
@@ -57,8 +59,11 @@ void sgemm(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::In
   if (m < 1 || n < 1 || k < 1) throw std::invalid_argument("sgemm: empty dimension");
   const Eigen::Index m_pad = (m + kMr - 1) / kMr * kMr;
   const Eigen::Index n_pad = (n + kNr - 1) / kNr * kNr;
-  ws.packed_a.resize(static_cast<std::size_t>(m_pad * std::min(k, kKc)));
-  ws.packed_b.resize(static_cast<std::size_t>(n_pad * std::min(k, kKc)));
+  // Grow only: shrinking and regrowing would value-initialise (memset) the panels every call.
+  const auto need_a = static_cast<std::size_t>(m_pad * std::min(k, kKc));
+  const auto need_b = static_cast<std::size_t>(n_pad * std::min(k, kKc));
+  if (ws.packed_a.size() < need_a) ws.packed_a.resize(need_a);
+  if (ws.packed_b.size() < need_b) ws.packed_b.resize(need_b);
   alignas(64) float tile[kMr * kNr];
 
   for (Eigen::Index k0 = 0; k0 < k; k0 += kKc) {

@@ -10,16 +10,23 @@
 //
 // Blocking: K in blocks of 256; A packed into 32-row panels (fits L2), B into 12-column panels
 // (fits L1). Edges are zero-padded in the packed copies and written through a scratch tile.
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
 
 namespace codesign::rl {
 
+// Arithmetic of the large matrix products of the learner (MlpT): plain float32 (sgemm), or
+// bfloat16 operands with float32 sums (gemm_bf16). Everything else is float32 either way.
+enum class MatmulPrecision { Float32, BFloat16 };
+
 // Scratch reused across calls (aligned packed panels); owned by the caller, no global state.
 struct GemmWorkspace {
   std::vector<float, Eigen::aligned_allocator<float>> packed_a;
   std::vector<float, Eigen::aligned_allocator<float>> packed_b;
+  std::vector<std::uint16_t, Eigen::aligned_allocator<std::uint16_t>> packed_a16;  // gemm_bf16
+  std::vector<std::uint16_t, Eigen::aligned_allocator<std::uint16_t>> packed_b16;
 };
 
 // True if this build has the fast kernel (AVX-512F).
@@ -31,5 +38,20 @@ bool fast_gemm_available();
 void sgemm(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::Index k,
            const float* a, Eigen::Index lda, const float* b, Eigen::Index ldb, float* c,
            Eigen::Index ldc, GemmWorkspace& ws);
+
+// Mixed precision (gemm_bf16.cpp): the same product with every entry of op(A) and op(B) rounded
+// to bfloat16 (8 significant bits, round to nearest even) and all sums carried in float32, as
+// PyTorch's bf16 autocast does for matrix products. Per entry,
+//   |C_bf16 - A B| <= (2 u16 + u16^2 + gamma_{k+1}) (|A| |B|),  u16 = 2^-8 (u of bf16),
+// since a product of two bf16 numbers is exact in float32. Twice the multiply-adds per
+// instruction of sgemm (AVX-512 BF16 `vdpbf16ps`).
+bool bf16_gemm_available();  // true if built with AVX-512 BF16 (e.g. -march=native on Zen 4)
+void gemm_bf16(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::Index k,
+               const float* a, Eigen::Index lda, const float* b, Eigen::Index ldb, float* c,
+               Eigen::Index ldc, GemmWorkspace& ws);
+
+// bfloat16 conversions used by the packing (round to nearest even; NaN stays NaN).
+std::uint16_t float_to_bf16(float x);
+float bf16_to_float(std::uint16_t h);
 
 }  // namespace codesign::rl

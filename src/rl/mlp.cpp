@@ -67,21 +67,32 @@ Eigen::MatrixXd orthogonal(Eigen::Index rows, Eigen::Index cols, double gain, Rn
 // dst = op(A) op(B) through the fast float32 GEMM when the shape is large enough for it to pay
 // off; returns false (caller uses Eigen) otherwise.
 template <class S>
-bool fast_product(bool enabled, bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k, const S* a,
+bool fast_product(bool enabled, MatmulPrecision precision, bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k, const S* a,
                   Eigen::Index lda, const S* b, Eigen::Index ldb, S* c, Eigen::Index ldc,
                   GemmWorkspace& ws) {
   if constexpr (std::is_same_v<S, float>) {
     if (enabled && fast_gemm_available() && m >= 64 && n >= 32 && k >= 32) {
-      sgemm(ta, tb, m, n, k, a, lda, b, ldb, c, ldc, ws);
+      if (precision == MatmulPrecision::BFloat16)
+        gemm_bf16(ta, tb, m, n, k, a, lda, b, ldb, c, ldc, ws);
+      else
+        sgemm(ta, tb, m, n, k, a, lda, b, ldb, c, ldc, ws);
       return true;
     }
   }
-  (void)enabled, (void)ta, (void)tb, (void)m, (void)n, (void)k, (void)a, (void)lda, (void)b, (void)ldb, (void)c,
+  (void)enabled, (void)precision, (void)ta, (void)tb, (void)m, (void)n, (void)k, (void)a, (void)lda, (void)b, (void)ldb, (void)c,
       (void)ldc, (void)ws;
   return false;
 }
 
 }  // namespace
+
+template <class S>
+void MlpT<S>::set_matmul_precision(MatmulPrecision p) {
+  if (p == MatmulPrecision::BFloat16 && !bf16_gemm_available())
+    throw std::invalid_argument(
+        "bf16 matrix products need AVX-512 BF16, which this build/CPU does not have");
+  precision_ = p;
+}
 
 template <class S>
 void MlpT<S>::init_orthogonal(S output_gain, Rng& rng) {
@@ -104,11 +115,22 @@ const typename MlpT<S>::Mat& MlpT<S>::forward(const Eigen::Ref<const Mat>& x, Ca
     Mat& out = cache.a[l];
     out.resize(sizes_[l], x.cols());
     const Mat& in = cache.a[l - 1];
-    if (!fast_product<S>(fast_gemm_, false, false, out.rows(), out.cols(), in.rows(),
+    if (!fast_product<S>(fast_gemm_, precision_, false, false, out.rows(), out.cols(), in.rows(),
                          params_.data() + offsets_[l - 1], out.rows(), in.data(), in.rows(),
-                         out.data(), out.rows(), cache.gemm))
-      out.noalias() = weight(l) * in;
+                         out.data(), out.rows(), cache.gemm)) {
+      // A short inner dimension (the observation layer) column by column: no zero-fill and no
+      // packing of the operands.
+      if (in.rows() < 16) {
+        const auto w = weight(l);
+        for (Eigen::Index j = 0; j < in.cols(); ++j) {
+          out.col(j) = w.col(0) * in(0, j);
+          for (Eigen::Index p = 1; p < in.rows(); ++p) out.col(j) += w.col(p) * in(p, j);
+        }
+      } else
+        out.noalias() = weight(l) * in;
+    }
     out.colwise() += bias(l);
+    // (Kept apart from the bias: Eigen evaluates tanh of a broadcast sum one scalar at a time.)
     if (l < L) out.array() = out.array().tanh();
   }
   return cache.a.back();
@@ -121,18 +143,19 @@ typename MlpT<S>::Mat MlpT<S>::predict(const Eigen::Ref<const Mat>& x) const {
 }
 
 template <class S>
-void MlpT<S>::backward(Cache& cache, const Eigen::Ref<const Mat>& d_out, Eigen::Ref<Vec> grad,
+double MlpT<S>::backward(Cache& cache, const Eigen::Ref<const Mat>& d_out, Eigen::Ref<Vec> grad,
                        Mat* d_input) const {
   const int L = num_layers();
   if (static_cast<int>(cache.a.size()) != L + 1 || d_out.rows() != output_dim() ||
       d_out.cols() != cache.a.back().cols() || grad.size() != num_params())
     throw std::invalid_argument("MLP backward: sizes do not match the cached forward pass");
   cache.delta = d_out;
+  double squared_norm = 0;
   for (int l = L; l >= 1; --l) {
     const Mat& below = cache.a[l - 1];
     MatMap g_w(grad.data() + offsets_[l - 1], sizes_[l], sizes_[l - 1]);
     VecMap g_b(grad.data() + bias_offset(l), sizes_[l]);
-    if (!fast_product<S>(fast_gemm_, false, true, g_w.rows(), g_w.cols(), below.cols(), cache.delta.data(),
+    if (!fast_product<S>(fast_gemm_, precision_, false, true, g_w.rows(), g_w.cols(), below.cols(), cache.delta.data(),
                          cache.delta.rows(), below.data(), below.rows(), g_w.data(), g_w.rows(),
                          cache.gemm))
       g_w.noalias() = cache.delta * below.transpose();
@@ -140,13 +163,25 @@ void MlpT<S>::backward(Cache& cache, const Eigen::Ref<const Mat>& d_out, Eigen::
     // sum of a column-major matrix walks rows with a stride).
     if (cache.ones.size() != cache.delta.cols()) cache.ones = Vec::Ones(cache.delta.cols());
     g_b.noalias() = cache.delta * cache.ones;
+    squared_norm += static_cast<double>(g_w.squaredNorm()) + static_cast<double>(g_b.squaredNorm());
     if (l > 1) {
       cache.delta_prev.resize(sizes_[l - 1], cache.delta.cols());
-      if (!fast_product<S>(fast_gemm_, true, false, sizes_[l - 1], cache.delta.cols(), sizes_[l],
+      if (!fast_product<S>(fast_gemm_, precision_, true, false, sizes_[l - 1], cache.delta.cols(), sizes_[l],
                            params_.data() + offsets_[l - 1], sizes_[l], cache.delta.data(),
                            cache.delta.rows(), cache.delta_prev.data(), sizes_[l - 1],
                            cache.gemm))
-        cache.delta_prev.noalias() = weight(l).transpose() * cache.delta;
+      {
+        if (sizes_[l] < 16) {  // output layer: a few outer products, column by column
+          const auto w = weight(l);
+          for (Eigen::Index j = 0; j < cache.delta.cols(); ++j) {
+            auto col = cache.delta_prev.col(j);
+            col = w.row(0).transpose() * cache.delta(0, j);
+            for (Eigen::Index p = 1; p < sizes_[l]; ++p)
+              col += w.row(p).transpose() * cache.delta(p, j);
+          }
+        } else
+          cache.delta_prev.noalias() = weight(l).transpose() * cache.delta;
+      }
       // below = tanh(z): d tanh / dz = 1 - tanh^2
       cache.delta.resize(below.rows(), below.cols());
       cache.delta.array() = cache.delta_prev.array() * (S(1) - below.array().square());
@@ -154,6 +189,7 @@ void MlpT<S>::backward(Cache& cache, const Eigen::Ref<const Mat>& d_out, Eigen::
       d_input->noalias() = weight(1).transpose() * cache.delta;
     }
   }
+  return squared_norm;
 }
 
 template <class S>

@@ -72,6 +72,10 @@ class MlpT {
   // set_fast_gemm(false) forces Eigen everywhere (the benchmark's baseline).
   void set_fast_gemm(bool on) { fast_gemm_ = on; }
   bool fast_gemm() const { return fast_gemm_; }
+  // BFloat16: the large float32 products use rl::gemm_bf16 instead of rl::sgemm (bf16 operands,
+  // float32 sums; see gemm.hpp). Requires bf16_gemm_available(); ignored for double.
+  void set_matmul_precision(MatmulPrecision p);
+  MatmulPrecision matmul_precision() const { return precision_; }
   // Batched forward; fills cache.a and returns cache.a.back() (output_dim x B).
   const Mat& forward(const Eigen::Ref<const Mat>& x, Cache& cache) const;
   // Forward without keeping anything.
@@ -80,8 +84,9 @@ class MlpT {
   // Backward pass of the forward that filled `cache`. d_out = dL/d(output) (output_dim x B).
   // Writes (overwrites) dL/dparams into grad (size num_params(), same layout as params()).
   // If d_input is non-null it receives dL/d(input) (input_dim x B); otherwise that GEMM is
-  // skipped.
-  void backward(Cache& cache, const Eigen::Ref<const Mat>& d_out, Eigen::Ref<Vec> grad,
+  // skipped. Returns the squared L2 norm of grad, summed layer by layer right after each part is
+  // written (while it is still in cache; global gradient clipping needs it).
+  double backward(Cache& cache, const Eigen::Ref<const Mat>& d_out, Eigen::Ref<Vec> grad,
                 Mat* d_input = nullptr) const;
 
   // Floating-point operations of the GEMMs of forward and of backward (2 per multiply-add;
@@ -95,6 +100,7 @@ class MlpT {
   std::vector<Eigen::Index> offsets_;  // start of W_l in params_
   Vec params_;
   bool fast_gemm_ = true;
+  MatmulPrecision precision_ = MatmulPrecision::Float32;
 };
 
 using Mlp = MlpT<float>;

@@ -57,6 +57,8 @@ void validate(const PpoConfig& c) {
   if (!(c.max_grad_norm > 0)) fail("max_grad_norm must be > 0");
   if (c.target_kl && !(*c.target_kl > 0)) fail("target_kl must be > 0 when set");
   if (!(c.adam_eps > 0)) fail("adam_eps must be > 0");
+  if (c.matmul_precision == MatmulPrecision::BFloat16 && !bf16_gemm_available())
+    fail("matmul_precision bf16 needs AVX-512 BF16, which this build/CPU does not have");
   for (int h : c.actor_hidden)
     if (h < 1) fail("actor_hidden sizes must be >= 1");
   for (int h : c.critic_hidden)
@@ -119,8 +121,9 @@ PpoLossT<S> ppo_minibatch_loss(const ActorCriticT<S>& model, const PpoMinibatchT
                                   grad->log_std);
     gaussian_entropy_backward<S>(-S(coefs.ent_coef), grad->log_std);
     ws.d_value = (S(2 * coefs.vf_coef) * inv_n) * (values.row(0) - batch.returns);
-    model.actor().backward(ws.actor_cache, ws.d_mean, grad->actor);
-    model.critic().backward(ws.critic_cache, ws.d_value, grad->critic);
+    out.grad_squared_norm = model.actor().backward(ws.actor_cache, ws.d_mean, grad->actor) +
+                            model.critic().backward(ws.critic_cache, ws.d_value, grad->critic) +
+                            static_cast<double>(grad->log_std.squaredNorm());
   }
   return out;
 }
@@ -202,11 +205,12 @@ PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& bu
         stats.early_stopped = true;  // this minibatch is not applied (SB3 breaks before step)
         break;
       }
-      const double norm = std::sqrt(static_cast<double>(grad.squared_norm()));
+      const double norm = std::sqrt(l.grad_squared_norm);
       sum_norm += norm;
       const double clip_coef = config.max_grad_norm / (norm + 1e-6);
-      if (clip_coef < 1.0) grad.scale(static_cast<float>(clip_coef));
-      optimizer.step(blocks, config.learning_rate);
+      // clip_grad_norm_ scales by clip_coef when it is < 1; Adam applies the factor as it reads
+      // each gradient (one pass over memory instead of two).
+      optimizer.step(blocks, config.learning_rate, std::min(clip_coef, 1.0));
       ++stats.minibatches_applied;
     }
   }

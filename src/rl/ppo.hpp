@@ -51,6 +51,10 @@ struct PpoConfig {
   std::vector<int> critic_hidden = {64, 64};
   double log_std_init = 0.0;
   double adam_eps = 1e-5;
+  // Arithmetic of the large matrix products of actor and critic (gemm.hpp). BFloat16 rounds the
+  // operands of those products to bf16 and keeps float32 sums, parameters, optimiser state and
+  // everything else (PyTorch's bf16 autocast does the same); it needs AVX-512 BF16.
+  MatmulPrecision matmul_precision = MatmulPrecision::Float32;
 };
 
 // The paper's settings (SPEC.md section 4): lr 0.003, n_steps 50, batch 256, 10 epochs, gamma
@@ -117,6 +121,7 @@ struct PpoLossT {
   S loss = 0, pg_loss = 0, value_loss = 0, entropy_loss = 0;
   S approx_kl = 0;      // mean((r - 1) - log r), no gradient
   S clip_fraction = 0;  // mean(|r - 1| > clip_range)
+  double grad_squared_norm = 0;  // squared global L2 norm of the gradient (if one was asked for)
 };
 
 // Scratch reused across minibatches (no allocation in steady state).

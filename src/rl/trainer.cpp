@@ -54,6 +54,7 @@ Trainer::Trainer(const EnvFactory& factory, const TrainerConfig& config)
   act_rng_ = master.split();
   update_rng_ = master.split();
   model_.init_orthogonal(init_rng);
+  model_.set_matmul_precision(config_.ppo.matmul_precision);
 
   last_obs_ = venv_.reset();
   last_episode_starts_ = Eigen::RowVectorXf::Ones(config_.n_envs);  // SB3: all ones at start
