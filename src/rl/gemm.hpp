@@ -50,6 +50,24 @@ void gemm_bf16(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen
                const float* a, Eigen::Index lda, const float* b, Eigen::Index ldb, float* c,
                Eigen::Index ldc, GemmWorkspace& ws);
 
+// Operand A of gemm_bf16 converted and packed once, for reuse by several products (a weight
+// matrix between optimiser steps). op(A) is m x k; the layout is private to gemm_bf16.cpp.
+struct PackedBf16 {
+  Eigen::Index m = 0, k = 0;
+  std::vector<std::uint16_t, Eigen::aligned_allocator<std::uint16_t>> data;
+};
+// Packs op(A) (m x k).
+void pack_bf16(bool trans_a, Eigen::Index m, Eigen::Index k, const float* a, Eigen::Index lda,
+               PackedBf16& out);
+// Packs W (m x k) as `plain` (op = W) and as `transposed` (op = W^T) in one pass over W where
+// m and k are multiples of 32 up to 512 (two passes otherwise): a layer's weight is used as W in
+// the forward pass and as W^T for the input gradient.
+void pack_bf16_both(Eigen::Index m, Eigen::Index k, const float* w, Eigen::Index ldw,
+                    PackedBf16& plain, PackedBf16& transposed);
+// C (a.m x n) = op(A) op(B) with A packed; same arithmetic as gemm_bf16.
+void gemm_bf16_packed(const PackedBf16& a, bool trans_b, Eigen::Index n, const float* b,
+                      Eigen::Index ldb, float* c, Eigen::Index ldc, GemmWorkspace& ws);
+
 // bfloat16 conversions used by the packing (round to nearest even; NaN stays NaN).
 std::uint16_t float_to_bf16(float x);
 float bf16_to_float(std::uint16_t h);

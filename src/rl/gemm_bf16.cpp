@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 
 #include "rl/gemm.hpp"
 
@@ -225,48 +226,118 @@ void pack_b(bool trans, const float* b, Index ldb, Index n, Index k0, Index kc,
     pack_b_panel_generic(trans, b, ldb, n, j0, k0, kc, packed + j0 * kq * 2);
 }
 
+// C (=|+=) packed A block (m rows, kq pairs) * op(B) for the k range [k0, k0 + kc).
+void multiply_block(const std::uint16_t* pa, Index m, Index k0, Index kc, bool trans_b,
+                    const float* b, Index ldb, Index n, float* c, Index ldc, GemmWorkspace& ws) {
+  const Index m_pad = (m + kMr - 1) / kMr * kMr;
+  const Index n_pad = (n + kNr - 1) / kNr * kNr;
+  const Index kq = (kc + 1) / 2;
+  const bool accumulate = k0 > 0;
+  // Grow only: shrinking and regrowing would value-initialise (memset) the panels every call.
+  const auto need_b = static_cast<std::size_t>(n_pad * kq * 2);
+  if (ws.packed_b16.size() < need_b) ws.packed_b16.resize(need_b);
+  std::uint16_t* pb = ws.packed_b16.data();
+  pack_b(trans_b, b, ldb, n, k0, kc, pb);
+  alignas(64) float tile[kMr * kNr];
+  for (Index j0 = 0; j0 < n_pad; j0 += kNr) {
+    const Index cols = std::min(kNr, n - j0);
+    for (Index i0 = 0; i0 < m_pad; i0 += kMr) {
+      const Index rows = std::min(kMr, m - i0);
+      float* c_tile = c + i0 + j0 * ldc;
+      if (rows == kMr && cols == kNr) {
+        micro_kernel(kq, pa + i0 * kq * 2, pb + j0 * kq * 2, c_tile, ldc, accumulate);
+      } else {
+        micro_kernel(kq, pa + i0 * kq * 2, pb + j0 * kq * 2, tile, kMr, false);
+        for (Index j = 0; j < cols; ++j)
+          for (Index i = 0; i < rows; ++i)
+            c_tile[i + j * ldc] = (accumulate ? c_tile[i + j * ldc] : 0.0f) + tile[i + j * kMr];
+      }
+    }
+  }
+}
+
+// Offset of K block k0 (a multiple of kKc) in a packed A of m rows: every earlier block is full.
+Index block_offset(Index m, Index k0) { return (m + kMr - 1) / kMr * kMr * k0; }
+
+void check_dims(Index m, Index n, Index k, const char* who) {
+  if (m < 1 || n < 1 || k < 1) throw std::invalid_argument(std::string(who) + ": empty dimension");
+}
+
 }  // namespace
 
 bool bf16_gemm_available() { return true; }
 
 void gemm_bf16(bool trans_a, bool trans_b, Index m, Index n, Index k, const float* a, Index lda,
                const float* b, Index ldb, float* c, Index ldc, GemmWorkspace& ws) {
-  if (m < 1 || n < 1 || k < 1) throw std::invalid_argument("gemm_bf16: empty dimension");
+  check_dims(m, n, k, "gemm_bf16");
   const Index m_pad = (m + kMr - 1) / kMr * kMr;
-  const Index n_pad = (n + kNr - 1) / kNr * kNr;
-  const Index kc_max = std::min(k, kKc);
-  const Index kq_max = (kc_max + 1) / 2;
-  // Grow only: shrinking and regrowing would value-initialise (memset) the panels every call.
-  const auto need_a = static_cast<std::size_t>(m_pad * kq_max * 2);
-  const auto need_b = static_cast<std::size_t>(n_pad * kq_max * 2);
+  const auto need_a = static_cast<std::size_t>(m_pad * ((std::min(k, kKc) + 1) / 2) * 2);
   if (ws.packed_a16.size() < need_a) ws.packed_a16.resize(need_a);
-  if (ws.packed_b16.size() < need_b) ws.packed_b16.resize(need_b);
-  alignas(64) float tile[kMr * kNr];
-
   for (Index k0 = 0; k0 < k; k0 += kKc) {
     const Index kc = std::min(kKc, k - k0);
-    const Index kq = (kc + 1) / 2;
-    const bool accumulate = k0 > 0;
-    std::uint16_t* pa = ws.packed_a16.data();
-    std::uint16_t* pb = ws.packed_b16.data();
-    pack_a(trans_a, a, lda, m, k0, kc, pa);
-    pack_b(trans_b, b, ldb, n, k0, kc, pb);
-    for (Index j0 = 0; j0 < n_pad; j0 += kNr) {
-      const Index cols = std::min(kNr, n - j0);
-      for (Index i0 = 0; i0 < m_pad; i0 += kMr) {
-        const Index rows = std::min(kMr, m - i0);
-        float* c_tile = c + i0 + j0 * ldc;
-        if (rows == kMr && cols == kNr) {
-          micro_kernel(kq, pa + i0 * kq * 2, pb + j0 * kq * 2, c_tile, ldc, accumulate);
-        } else {
-          micro_kernel(kq, pa + i0 * kq * 2, pb + j0 * kq * 2, tile, kMr, false);
-          for (Index j = 0; j < cols; ++j)
-            for (Index i = 0; i < rows; ++i)
-              c_tile[i + j * ldc] = (accumulate ? c_tile[i + j * ldc] : 0.0f) + tile[i + j * kMr];
-        }
-      }
+    pack_a(trans_a, a, lda, m, k0, kc, ws.packed_a16.data());
+    multiply_block(ws.packed_a16.data(), m, k0, kc, trans_b, b, ldb, n, c, ldc, ws);
+  }
+}
+
+void pack_bf16(bool trans_a, Index m, Index k, const float* a, Index lda, PackedBf16& out) {
+  check_dims(m, 1, k, "pack_bf16");
+  out.m = m;
+  out.k = k;
+  const Index m_pad = (m + kMr - 1) / kMr * kMr;
+  const Index last_k0 = (k - 1) / kKc * kKc;
+  const auto need =
+      static_cast<std::size_t>(block_offset(m, last_k0) + m_pad * ((k - last_k0 + 1) / 2) * 2);
+  if (out.data.size() < need) out.data.resize(need);
+  for (Index k0 = 0; k0 < k; k0 += kKc)
+    pack_a(trans_a, a, lda, m, k0, std::min(kKc, k - k0), out.data.data() + block_offset(m, k0));
+}
+
+void pack_bf16_both(Index m, Index k, const float* w, Index ldw, PackedBf16& plain,
+                    PackedBf16& transposed) {
+  check_dims(m, 1, k, "pack_bf16_both");
+  if (m % kMr != 0 || k % kMr != 0 || m > kKc || k > kKc) {  // general shapes: two passes
+    pack_bf16(false, m, k, w, ldw, plain);
+    pack_bf16(true, k, m, w, ldw, transposed);
+    return;
+  }
+  // One pass over W in blocks of 32 rows x 16 columns: interleaved column pairs give the plain
+  // panels; the same registers, converted as row pairs and transposed, give the transposed ones.
+  plain.m = m;
+  plain.k = k;
+  transposed.m = k;
+  transposed.k = m;
+  const auto need = static_cast<std::size_t>(m * k);
+  if (plain.data.size() < need) plain.data.resize(need);
+  if (transposed.data.size() < need) transposed.data.resize(need);
+  const Index kq_plain = k / 2, kq_trans = m / 2;
+  __m512 x[16][2];
+  __m512i r[16];
+  for (Index r0 = 0; r0 < m; r0 += kMr) {
+    std::uint16_t* plain_panel = plain.data.data() + r0 * kq_plain * 2;
+    for (Index c0 = 0; c0 < k; c0 += 16) {
+      for (int c = 0; c < 16; ++c)
+        for (int h = 0; h < 2; ++h) x[c][h] = _mm512_loadu_ps(w + r0 + 16 * h + (c0 + c) * ldw);
+      for (int t = 0; t < 8; ++t)
+        for (int h = 0; h < 2; ++h)
+          _mm512_store_si512(plain_panel + (c0 / 2 + t) * 64 + 32 * h,
+                             interleave_pairs(x[2 * t][h], x[2 * t + 1][h]));
+      for (int c = 0; c < 16; ++c) r[c] = (__m512i)_mm512_cvtne2ps_pbh(x[c][1], x[c][0]);
+      transpose_16x16(r);
+      std::uint32_t* trans_panel =
+          reinterpret_cast<std::uint32_t*>(transposed.data.data() + (c0 / kMr) * kMr * kq_trans * 2);
+      for (int t = 0; t < 16; ++t)
+        _mm512_store_si512(trans_panel + (r0 / 2 + t) * 32 + ((c0 % kMr) / 16) * 16, r[t]);
     }
   }
+}
+
+void gemm_bf16_packed(const PackedBf16& a, bool trans_b, Index n, const float* b, Index ldb,
+                      float* c, Index ldc, GemmWorkspace& ws) {
+  check_dims(a.m, n, a.k, "gemm_bf16_packed");
+  for (Index k0 = 0; k0 < a.k; k0 += kKc)
+    multiply_block(a.data.data() + block_offset(a.m, k0), a.m, k0, std::min(kKc, a.k - k0),
+                   trans_b, b, ldb, n, c, ldc, ws);
 }
 
 #else
@@ -276,6 +347,17 @@ bool bf16_gemm_available() { return false; }
 void gemm_bf16(bool, bool, Eigen::Index, Eigen::Index, Eigen::Index, const float*, Eigen::Index,
                const float*, Eigen::Index, float*, Eigen::Index, GemmWorkspace&) {
   throw std::logic_error("gemm_bf16: built without AVX-512 BF16; use float32");
+}
+void pack_bf16(bool, Eigen::Index, Eigen::Index, const float*, Eigen::Index, PackedBf16&) {
+  throw std::logic_error("pack_bf16: built without AVX-512 BF16; use float32");
+}
+void pack_bf16_both(Eigen::Index, Eigen::Index, const float*, Eigen::Index, PackedBf16&,
+                    PackedBf16&) {
+  throw std::logic_error("pack_bf16_both: built without AVX-512 BF16; use float32");
+}
+void gemm_bf16_packed(const PackedBf16&, bool, Eigen::Index, const float*, Eigen::Index, float*,
+                      Eigen::Index, GemmWorkspace&) {
+  throw std::logic_error("gemm_bf16_packed: built without AVX-512 BF16; use float32");
 }
 
 #endif

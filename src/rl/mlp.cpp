@@ -66,12 +66,17 @@ Eigen::MatrixXd orthogonal(Eigen::Index rows, Eigen::Index cols, double gain, Rn
 
 // dst = op(A) op(B) through the fast float32 GEMM when the shape is large enough for it to pay
 // off; returns false (caller uses Eigen) otherwise.
+// Shapes for which the blocked GEMMs beat Eigen (and which they are tested on).
+bool fast_eligible(bool enabled, Eigen::Index m, Eigen::Index n, Eigen::Index k) {
+  return enabled && fast_gemm_available() && m >= 64 && n >= 32 && k >= 32;
+}
+
 template <class S>
 bool fast_product(bool enabled, MatmulPrecision precision, bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k, const S* a,
                   Eigen::Index lda, const S* b, Eigen::Index ldb, S* c, Eigen::Index ldc,
                   GemmWorkspace& ws) {
   if constexpr (std::is_same_v<S, float>) {
-    if (enabled && fast_gemm_available() && m >= 64 && n >= 32 && k >= 32) {
+    if (fast_eligible(enabled, m, n, k)) {
       if (precision == MatmulPrecision::BFloat16)
         gemm_bf16(ta, tb, m, n, k, a, lda, b, ldb, c, ldc, ws);
       else
@@ -111,10 +116,32 @@ const typename MlpT<S>::Mat& MlpT<S>::forward(const Eigen::Ref<const Mat>& x, Ca
   const int L = num_layers();
   cache.a.resize(static_cast<std::size_t>(L) + 1);
   cache.a[0] = x;
+  cache.w_plain.resize(static_cast<std::size_t>(L) + 1);
+  cache.w_transposed.resize(static_cast<std::size_t>(L) + 1);
+  cache.w_transposed_ready.assign(static_cast<std::size_t>(L) + 1, 0);
   for (int l = 1; l <= L; ++l) {
     Mat& out = cache.a[l];
     out.resize(sizes_[l], x.cols());
     const Mat& in = cache.a[l - 1];
+    if constexpr (std::is_same_v<S, float>) {
+      if (precision_ == MatmulPrecision::BFloat16 &&
+          fast_eligible(fast_gemm_, out.rows(), out.cols(), in.rows())) {
+        const float* w = params_.data() + offsets_[l - 1];
+        const auto li = static_cast<std::size_t>(l);
+        if (cache.keep_transposed_weights) {
+          pack_bf16_both(sizes_[l], sizes_[l - 1], w, sizes_[l], cache.w_plain[li],
+                         cache.w_transposed[li]);
+          cache.w_transposed_ready[li] = 1;
+        } else {
+          pack_bf16(false, sizes_[l], sizes_[l - 1], w, sizes_[l], cache.w_plain[li]);
+        }
+        gemm_bf16_packed(cache.w_plain[li], false, out.cols(), in.data(), in.rows(), out.data(),
+                         out.rows(), cache.gemm);
+        out.colwise() += bias(l);
+        if (l < L) out.array() = out.array().tanh();
+        continue;
+      }
+    }
     if (!fast_product<S>(fast_gemm_, precision_, false, false, out.rows(), out.cols(), in.rows(),
                          params_.data() + offsets_[l - 1], out.rows(), in.data(), in.rows(),
                          out.data(), out.rows(), cache.gemm)) {
@@ -139,6 +166,7 @@ const typename MlpT<S>::Mat& MlpT<S>::forward(const Eigen::Ref<const Mat>& x, Ca
 template <class S>
 typename MlpT<S>::Mat MlpT<S>::predict(const Eigen::Ref<const Mat>& x) const {
   Cache cache;
+  cache.keep_transposed_weights = false;
   return forward(x, cache);
 }
 
@@ -166,7 +194,14 @@ double MlpT<S>::backward(Cache& cache, const Eigen::Ref<const Mat>& d_out, Eigen
     squared_norm += static_cast<double>(g_w.squaredNorm()) + static_cast<double>(g_b.squaredNorm());
     if (l > 1) {
       cache.delta_prev.resize(sizes_[l - 1], cache.delta.cols());
-      if (!fast_product<S>(fast_gemm_, precision_, true, false, sizes_[l - 1], cache.delta.cols(), sizes_[l],
+      const auto li = static_cast<std::size_t>(l);
+      if (li < cache.w_transposed_ready.size() && cache.w_transposed_ready[li] &&
+          fast_eligible(fast_gemm_, sizes_[l - 1], cache.delta.cols(), sizes_[l])) {
+        if constexpr (std::is_same_v<S, float>)  // W^T packed by the forward pass
+          gemm_bf16_packed(cache.w_transposed[li], false, cache.delta.cols(), cache.delta.data(),
+                           cache.delta.rows(), cache.delta_prev.data(), sizes_[l - 1],
+                           cache.gemm);
+      } else if (!fast_product<S>(fast_gemm_, precision_, true, false, sizes_[l - 1], cache.delta.cols(), sizes_[l],
                            params_.data() + offsets_[l - 1], sizes_[l], cache.delta.data(),
                            cache.delta.rows(), cache.delta_prev.data(), sizes_[l - 1],
                            cache.gemm))

@@ -41,6 +41,11 @@ class MlpT {
     Mat delta_prev;      // backward scratch: dL/d(activation) of the layer below
     Vec ones;            // backward scratch: a vector of ones (bias gradients)
     GemmWorkspace gemm;  // packed panels of the float32 GEMM (gemm.hpp)
+    // bf16 products: each large layer's weight packed by forward() as W and, when
+    // keep_transposed_weights, as W^T for backward() (one read of W serves both products).
+    std::vector<PackedBf16> w_plain, w_transposed;
+    std::vector<char> w_transposed_ready;  // per layer: w_transposed[l] is from this forward
+    bool keep_transposed_weights = true;    // predict() turns it off (no backward follows)
   };
 
   MlpT() = default;
@@ -81,7 +86,8 @@ class MlpT {
   // Forward without keeping anything.
   Mat predict(const Eigen::Ref<const Mat>& x) const;
 
-  // Backward pass of the forward that filled `cache`. d_out = dL/d(output) (output_dim x B).
+  // Backward pass of the forward that filled `cache`, with the parameters unchanged since then
+  // (the bf16 path reuses the weights packed by that forward). d_out = dL/d(output) (output_dim x B).
   // Writes (overwrites) dL/dparams into grad (size num_params(), same layout as params()).
   // If d_input is non-null it receives dL/d(input) (input_dim x B); otherwise that GEMM is
   // skipped. Returns the squared L2 norm of grad, summed layer by layer right after each part is
