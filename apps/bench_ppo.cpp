@@ -133,17 +133,18 @@ IterationTimes run_iteration(rl::ActorCritic& model, rl::Adam& adam, const rl::P
   rl::RolloutBuffer buffer(cfg.n_steps, n_envs, model.obs_dim(), model.act_dim());
   Eigen::MatrixXf obs(model.obs_dim(), n_envs);
   Eigen::RowVectorXf starts = Eigen::RowVectorXf::Ones(n_envs);
+  rl::ActorCritic::InferenceCache inference;  // as the trainer: packed weights reused by 50 steps
   const double cpu0 = thread_cpu_seconds();
   auto t0 = Clock::now();
   for (int s = 0; s < cfg.n_steps; ++s) {
     for (Eigen::Index i = 0; i < obs.size(); ++i) obs(i) = static_cast<float>(rng.normal());
-    const auto out = model.act(obs, rng);
+    const auto out = model.act(obs, rng, inference);
     Eigen::RowVectorXf rewards(n_envs);
     for (int e = 0; e < n_envs; ++e) rewards(e) = static_cast<float>(rng.normal());
     buffer.add(obs, out.actions, rewards, starts, out.values, out.log_probs);
     starts.setZero();
   }
-  const Eigen::RowVectorXf last_values = model.value(obs);
+  const Eigen::RowVectorXf last_values = model.value(obs, inference);
   t.rollout = seconds_since(t0);
   t0 = Clock::now();
   buffer.compute_returns_and_advantage(last_values, Eigen::RowVectorXf::Zero(n_envs), cfg.gamma,

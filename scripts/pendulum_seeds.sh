@@ -6,13 +6,14 @@
 #
 #   scripts/pendulum_seeds.sh [path/to/codesign] [output dir]
 # Defaults: build/release/codesign (or $CODESIGN_BIN), runs/pendulum_seeds/<UTC timestamp> (a fresh
-# directory, so earlier results are never overwritten).
+# directory, so earlier results are never overwritten). $PENDULUM_CONFIG replaces
+# configs/pendulum.toml (e.g. a copy with ppo.matmul_precision = "float32").
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bin="${1:-${CODESIGN_BIN:-$here/build/release/codesign}}"
 out="${2:-$here/runs/pendulum_seeds/$(date -u +%Y%m%dT%H%M%SZ)}"
-config="$here/configs/pendulum.toml"
+config="${PENDULUM_CONFIG:-$here/configs/pendulum.toml}"
 threshold=-250
 needed=4
 

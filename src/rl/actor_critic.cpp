@@ -34,17 +34,31 @@ void ActorCriticT<S>::init_orthogonal(Rng& rng) {
 template <class S>
 typename ActorCriticT<S>::ActResult ActorCriticT<S>::act(const Eigen::Ref<const Mat>& obs,
                                                          Rng& rng) const {
+  InferenceCache cache;
+  return act(obs, rng, cache);
+}
+
+template <class S>
+typename ActorCriticT<S>::ActResult ActorCriticT<S>::act(const Eigen::Ref<const Mat>& obs,
+                                                         Rng& rng, InferenceCache& cache) const {
   ActResult r;
-  const Mat mean = actor_.predict(obs);
+  const Mat& mean = actor_.forward(obs, cache.actor);
   r.actions = gaussian_sample<S>(mean, log_std_, rng);
   r.log_probs = gaussian_log_prob<S>(mean, log_std_, r.actions);
-  r.values = critic_.predict(obs).row(0);
+  r.values = critic_.forward(obs, cache.critic).row(0);
   return r;
 }
 
 template <class S>
 typename ActorCriticT<S>::RowVec ActorCriticT<S>::value(const Eigen::Ref<const Mat>& obs) const {
-  return critic_.predict(obs).row(0);
+  InferenceCache cache;
+  return value(obs, cache);
+}
+
+template <class S>
+typename ActorCriticT<S>::RowVec ActorCriticT<S>::value(const Eigen::Ref<const Mat>& obs,
+                                                        InferenceCache& cache) const {
+  return critic_.forward(obs, cache.critic).row(0);
 }
 
 template <class S>

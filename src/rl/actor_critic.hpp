@@ -77,10 +77,27 @@ class ActorCriticT {
   const Vec& log_std() const { return log_std_; }
   S log_std_init() const { return log_std_init_; }
 
+  // Scratch of the forward passes of act()/value(), reused across calls: activations are not
+  // reallocated and the packed bf16 weights are kept between calls. Call weights_changed()
+  // whenever the parameters change (the trainer does at the start of every rollout).
+  struct InferenceCache {
+    InferenceCache() {
+      actor.keep_transposed_weights = critic.keep_transposed_weights = false;
+      actor.reuse_packed_weights = critic.reuse_packed_weights = true;
+    }
+    void weights_changed() {
+      actor.weights_changed();
+      critic.weights_changed();
+    }
+    typename MlpT<S>::Cache actor, critic;
+  };
+
   // Samples actions for a batch of observations (rng draws as in gaussian_sample).
   ActResult act(const Eigen::Ref<const Mat>& obs, Rng& rng) const;
+  ActResult act(const Eigen::Ref<const Mat>& obs, Rng& rng, InferenceCache& cache) const;
   // V(obs) for a batch (1 x B).
   RowVec value(const Eigen::Ref<const Mat>& obs) const;
+  RowVec value(const Eigen::Ref<const Mat>& obs, InferenceCache& cache) const;
   // Mean action (the deterministic policy), unclipped.
   Vec deterministic_action(const Eigen::Ref<const Vec>& obs) const;
   Mat deterministic_actions(const Eigen::Ref<const Mat>& obs) const;

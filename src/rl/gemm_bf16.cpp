@@ -313,9 +313,10 @@ void pack_bf16_both(Index m, Index k, const float* w, Index ldw, PackedBf16& pla
   const Index kq_plain = k / 2, kq_trans = m / 2;
   __m512 x[16][2];
   __m512i r[16];
-  for (Index r0 = 0; r0 < m; r0 += kMr) {
-    std::uint16_t* plain_panel = plain.data.data() + r0 * kq_plain * 2;
-    for (Index c0 = 0; c0 < k; c0 += 16) {
+  // Columns outer, rows inner: 16 sequential read streams down 16 columns of W.
+  for (Index c0 = 0; c0 < k; c0 += 16) {
+    for (Index r0 = 0; r0 < m; r0 += kMr) {
+      std::uint16_t* plain_panel = plain.data.data() + r0 * kq_plain * 2;
       for (int c = 0; c < 16; ++c)
         for (int h = 0; h < 2; ++h) x[c][h] = _mm512_loadu_ps(w + r0 + 16 * h + (c0 + c) * ldw);
       for (int t = 0; t < 8; ++t)

@@ -119,6 +119,8 @@ const typename MlpT<S>::Mat& MlpT<S>::forward(const Eigen::Ref<const Mat>& x, Ca
   cache.w_plain.resize(static_cast<std::size_t>(L) + 1);
   cache.w_transposed.resize(static_cast<std::size_t>(L) + 1);
   cache.w_transposed_ready.assign(static_cast<std::size_t>(L) + 1, 0);
+  if (!cache.reuse_packed_weights || cache.w_plain_ready.size() != cache.w_plain.size())
+    cache.w_plain_ready.assign(static_cast<std::size_t>(L) + 1, 0);
   for (int l = 1; l <= L; ++l) {
     Mat& out = cache.a[l];
     out.resize(sizes_[l], x.cols());
@@ -132,9 +134,10 @@ const typename MlpT<S>::Mat& MlpT<S>::forward(const Eigen::Ref<const Mat>& x, Ca
           pack_bf16_both(sizes_[l], sizes_[l - 1], w, sizes_[l], cache.w_plain[li],
                          cache.w_transposed[li]);
           cache.w_transposed_ready[li] = 1;
-        } else {
+        } else if (!(cache.reuse_packed_weights && cache.w_plain_ready[li])) {
           pack_bf16(false, sizes_[l], sizes_[l - 1], w, sizes_[l], cache.w_plain[li]);
         }
+        cache.w_plain_ready[li] = 1;
         gemm_bf16_packed(cache.w_plain[li], false, out.cols(), in.data(), in.rows(), out.data(),
                          out.rows(), cache.gemm);
         out.colwise() += bias(l);

@@ -46,6 +46,11 @@ class MlpT {
     std::vector<PackedBf16> w_plain, w_transposed;
     std::vector<char> w_transposed_ready;  // per layer: w_transposed[l] is from this forward
     bool keep_transposed_weights = true;    // predict() turns it off (no backward follows)
+    // Inference caches may keep w_plain across calls: set reuse_packed_weights, and call
+    // weights_changed() whenever the parameters change (else stale weights are used).
+    bool reuse_packed_weights = false;
+    std::vector<char> w_plain_ready;
+    void weights_changed() { w_plain_ready.clear(); }
   };
 
   MlpT() = default;

@@ -64,6 +64,7 @@ Trainer::Trainer(const EnvFactory& factory, const TrainerConfig& config)
 }
 
 void Trainer::collect_rollouts() {
+  inference_.weights_changed();  // the parameters were updated since the last rollout
   const auto t0 = std::chrono::steady_clock::now();
   const double gamma = config_.ppo.gamma;
   const auto n = static_cast<Eigen::Index>(config_.n_envs);
@@ -72,7 +73,7 @@ void Trainer::collect_rollouts() {
   Eigen::RowVectorXf dones(n);
   for (int step = 0; step < config_.ppo.n_steps; ++step) {
     const Eigen::MatrixXf obs = last_obs_.cast<float>();
-    ActorCritic::ActResult act = model_.act(obs, act_rng_);
+    ActorCritic::ActResult act = model_.act(obs, act_rng_, inference_);
     const VecStepResult& r =
         venv_.step(clip_actions(act.actions.cast<double>(), venv_.spec().action));
     num_timesteps_ += n;
@@ -94,7 +95,7 @@ void Trainer::collect_rollouts() {
       running_length_[iu] = 0;
       if (r.truncated[iu] && !r.terminated[iu] && r.terminal_obs[iu]) {
         const Eigen::MatrixXf terminal = r.terminal_obs[iu]->cast<float>();
-        reward += gamma * static_cast<double>(model_.value(terminal)(0));
+        reward += gamma * static_cast<double>(model_.value(terminal, inference_)(0));
       }
       rewards(i) = static_cast<float>(reward);
     }
@@ -104,7 +105,7 @@ void Trainer::collect_rollouts() {
   }
   last_dones_ = last_episode_starts_;
   const Eigen::MatrixXf last_obs = last_obs_.cast<float>();
-  buffer_.compute_returns_and_advantage(model_.value(last_obs), last_dones_, gamma,
+  buffer_.compute_returns_and_advantage(model_.value(last_obs, inference_), last_dones_, gamma,
                                         config_.ppo.gae_lambda);
   last_collect_s_ = seconds_since(t0);
 }

@@ -102,6 +102,7 @@ class Trainer {
   Adam optimizer_;
   RolloutBuffer buffer_;
   Rng act_rng_;
+  ActorCritic::InferenceCache inference_;  // rollout forward passes, reused every step
   Rng update_rng_;
   Eigen::MatrixXd last_obs_;                // obs_dim x n_envs
   Eigen::RowVectorXf last_episode_starts_;  // 1 x n_envs
