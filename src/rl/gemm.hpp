@@ -46,9 +46,24 @@ void sgemm(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::In
 // since a product of two bf16 numbers is exact in float32. Twice the multiply-adds per
 // instruction of sgemm (AVX-512 BF16 `vdpbf16ps`).
 bool bf16_gemm_available();  // true if built with AVX-512 BF16 (e.g. -march=native on Zen 4)
+
+// Work done on each finished tile of C while it is in L1, in this order (all optional):
+//   c += bias (per row);  c = tanh(c);  c *= 1 - t^2 (t: a matrix like C);
+//   *sum_squares += sum of c^2;  row_sums[i] += sum over the columns of row i of c.
+// The MLP uses it for bias + tanh in the forward pass, the tanh derivative and the bias
+// gradient in the backward pass, and the gradient norm.
+struct GemmEpilogue {
+  const float* bias = nullptr;
+  bool tanh = false;
+  const float* tanh_of_input = nullptr;
+  Eigen::Index ld_tanh = 0;
+  double* sum_squares = nullptr;
+  float* row_sums = nullptr;
+};
+
 void gemm_bf16(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::Index k,
                const float* a, Eigen::Index lda, const float* b, Eigen::Index ldb, float* c,
-               Eigen::Index ldc, GemmWorkspace& ws);
+               Eigen::Index ldc, GemmWorkspace& ws, const GemmEpilogue* epilogue = nullptr);
 
 // Operand A of gemm_bf16 converted and packed once, for reuse by several products (a weight
 // matrix between optimiser steps). op(A) is m x k; the layout is private to gemm_bf16.cpp.
@@ -66,7 +81,8 @@ void pack_bf16_both(Eigen::Index m, Eigen::Index k, const float* w, Eigen::Index
                     PackedBf16& plain, PackedBf16& transposed);
 // C (a.m x n) = op(A) op(B) with A packed; same arithmetic as gemm_bf16.
 void gemm_bf16_packed(const PackedBf16& a, bool trans_b, Eigen::Index n, const float* b,
-                      Eigen::Index ldb, float* c, Eigen::Index ldc, GemmWorkspace& ws);
+                      Eigen::Index ldb, float* c, Eigen::Index ldc, GemmWorkspace& ws,
+                      const GemmEpilogue* epilogue = nullptr);
 
 // bfloat16 conversions used by the packing (round to nearest even; NaN stays NaN).
 std::uint16_t float_to_bf16(float x);

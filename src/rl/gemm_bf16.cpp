@@ -226,9 +226,49 @@ void pack_b(bool trans, const float* b, Index ldb, Index n, Index k0, Index kc,
     pack_b_panel_generic(trans, b, ldb, n, j0, k0, kc, packed + j0 * kq * 2);
 }
 
-// C (=|+=) packed A block (m rows, kq pairs) * op(B) for the k range [k0, k0 + kc).
+// Applies the epilogue to one finished tile of C (rows i0.., `rows` <= 32, `cols` <= 8) while it
+// is still in L1. Accumulates squares into *sq.
+void finish_tile(const GemmEpilogue& e, Index i0, Index rows, Index j0, Index cols, float* c,
+                 Index ldc, __m512& sq) {
+  const __mmask16 k0 = rows >= 16 ? __mmask16(0xffff) : __mmask16((1u << rows) - 1);
+  const __mmask16 k1 =
+      rows >= 32 ? __mmask16(0xffff) : rows <= 16 ? __mmask16(0) : __mmask16((1u << (rows - 16)) - 1);
+  const __mmask16 mask[2] = {k0, k1};
+  __m512 bias[2] = {_mm512_setzero_ps(), _mm512_setzero_ps()};
+  __m512 row_sum[2] = {_mm512_setzero_ps(), _mm512_setzero_ps()};
+  if (e.bias != nullptr)
+    for (int h = 0; h < 2; ++h) bias[h] = _mm512_maskz_loadu_ps(mask[h], e.bias + i0 + 16 * h);
+  const __m512 one = _mm512_set1_ps(1.0f);
+  for (Index j = 0; j < cols; ++j) {
+    float* cj = c + i0 + (j0 + j) * ldc;
+    for (int h = 0; h < 2; ++h) {
+      if (mask[h] == 0) continue;
+      __m512 v = _mm512_maskz_loadu_ps(mask[h], cj + 16 * h);
+      if (e.bias != nullptr) v = _mm512_add_ps(v, bias[h]);
+      if (e.tanh) v = Eigen::internal::ptanh(v);
+      if (e.tanh_of_input != nullptr) {  // v * (1 - t^2)
+        const __m512 t =
+            _mm512_maskz_loadu_ps(mask[h], e.tanh_of_input + i0 + 16 * h + (j0 + j) * e.ld_tanh);
+        v = _mm512_mul_ps(v, _mm512_fnmadd_ps(t, t, one));
+      }
+      _mm512_mask_storeu_ps(cj + 16 * h, mask[h], v);
+      if (e.sum_squares != nullptr) sq = _mm512_fmadd_ps(v, v, sq);
+      if (e.row_sums != nullptr) row_sum[h] = _mm512_add_ps(row_sum[h], v);
+    }
+  }
+  if (e.row_sums != nullptr)
+    for (int h = 0; h < 2; ++h) {
+      float* dst = e.row_sums + i0 + 16 * h;
+      _mm512_mask_storeu_ps(dst, mask[h],
+                            _mm512_add_ps(_mm512_maskz_loadu_ps(mask[h], dst), row_sum[h]));
+    }
+}
+
+// C (=|+=) packed A block (m rows, kq pairs) * op(B) for the k range [k0, k0 + kc); `e` is
+// applied to each tile if this is the last block.
 void multiply_block(const std::uint16_t* pa, Index m, Index k0, Index kc, bool trans_b,
-                    const float* b, Index ldb, Index n, float* c, Index ldc, GemmWorkspace& ws) {
+                    const float* b, Index ldb, Index n, float* c, Index ldc, GemmWorkspace& ws,
+                    const GemmEpilogue* e) {
   const Index m_pad = (m + kMr - 1) / kMr * kMr;
   const Index n_pad = (n + kNr - 1) / kNr * kNr;
   const Index kq = (kc + 1) / 2;
@@ -239,6 +279,7 @@ void multiply_block(const std::uint16_t* pa, Index m, Index k0, Index kc, bool t
   std::uint16_t* pb = ws.packed_b16.data();
   pack_b(trans_b, b, ldb, n, k0, kc, pb);
   alignas(64) float tile[kMr * kNr];
+  __m512 sq = _mm512_setzero_ps();
   for (Index j0 = 0; j0 < n_pad; j0 += kNr) {
     const Index cols = std::min(kNr, n - j0);
     for (Index i0 = 0; i0 < m_pad; i0 += kMr) {
@@ -252,6 +293,12 @@ void multiply_block(const std::uint16_t* pa, Index m, Index k0, Index kc, bool t
           for (Index i = 0; i < rows; ++i)
             c_tile[i + j * ldc] = (accumulate ? c_tile[i + j * ldc] : 0.0f) + tile[i + j * kMr];
       }
+      if (e != nullptr) finish_tile(*e, i0, rows, j0, cols, c, ldc, sq);
+    }
+    // Squares summed in float over one column panel (at most 8 x m terms), then in double.
+    if (e != nullptr && e->sum_squares != nullptr) {
+      *e->sum_squares += static_cast<double>(_mm512_reduce_add_ps(sq));
+      sq = _mm512_setzero_ps();
     }
   }
 }
@@ -268,7 +315,8 @@ void check_dims(Index m, Index n, Index k, const char* who) {
 bool bf16_gemm_available() { return true; }
 
 void gemm_bf16(bool trans_a, bool trans_b, Index m, Index n, Index k, const float* a, Index lda,
-               const float* b, Index ldb, float* c, Index ldc, GemmWorkspace& ws) {
+               const float* b, Index ldb, float* c, Index ldc, GemmWorkspace& ws,
+               const GemmEpilogue* epilogue) {
   check_dims(m, n, k, "gemm_bf16");
   const Index m_pad = (m + kMr - 1) / kMr * kMr;
   const auto need_a = static_cast<std::size_t>(m_pad * ((std::min(k, kKc) + 1) / 2) * 2);
@@ -276,7 +324,8 @@ void gemm_bf16(bool trans_a, bool trans_b, Index m, Index n, Index k, const floa
   for (Index k0 = 0; k0 < k; k0 += kKc) {
     const Index kc = std::min(kKc, k - k0);
     pack_a(trans_a, a, lda, m, k0, kc, ws.packed_a16.data());
-    multiply_block(ws.packed_a16.data(), m, k0, kc, trans_b, b, ldb, n, c, ldc, ws);
+    multiply_block(ws.packed_a16.data(), m, k0, kc, trans_b, b, ldb, n, c, ldc, ws,
+                   k0 + kc == k ? epilogue : nullptr);
   }
 }
 
@@ -334,11 +383,13 @@ void pack_bf16_both(Index m, Index k, const float* w, Index ldw, PackedBf16& pla
 }
 
 void gemm_bf16_packed(const PackedBf16& a, bool trans_b, Index n, const float* b, Index ldb,
-                      float* c, Index ldc, GemmWorkspace& ws) {
+                      float* c, Index ldc, GemmWorkspace& ws, const GemmEpilogue* epilogue) {
   check_dims(a.m, n, a.k, "gemm_bf16_packed");
-  for (Index k0 = 0; k0 < a.k; k0 += kKc)
-    multiply_block(a.data.data() + block_offset(a.m, k0), a.m, k0, std::min(kKc, a.k - k0),
-                   trans_b, b, ldb, n, c, ldc, ws);
+  for (Index k0 = 0; k0 < a.k; k0 += kKc) {
+    const Index kc = std::min(kKc, a.k - k0);
+    multiply_block(a.data.data() + block_offset(a.m, k0), a.m, k0, kc, trans_b, b, ldb, n, c,
+                   ldc, ws, k0 + kc == a.k ? epilogue : nullptr);
+  }
 }
 
 #else
@@ -346,7 +397,8 @@ void gemm_bf16_packed(const PackedBf16& a, bool trans_b, Index n, const float* b
 bool bf16_gemm_available() { return false; }
 
 void gemm_bf16(bool, bool, Eigen::Index, Eigen::Index, Eigen::Index, const float*, Eigen::Index,
-               const float*, Eigen::Index, float*, Eigen::Index, GemmWorkspace&) {
+               const float*, Eigen::Index, float*, Eigen::Index, GemmWorkspace&,
+               const GemmEpilogue*) {
   throw std::logic_error("gemm_bf16: built without AVX-512 BF16; use float32");
 }
 void pack_bf16(bool, Eigen::Index, Eigen::Index, const float*, Eigen::Index, PackedBf16&) {
@@ -357,7 +409,7 @@ void pack_bf16_both(Eigen::Index, Eigen::Index, const float*, Eigen::Index, Pack
   throw std::logic_error("pack_bf16_both: built without AVX-512 BF16; use float32");
 }
 void gemm_bf16_packed(const PackedBf16&, bool, Eigen::Index, const float*, Eigen::Index, float*,
-                      Eigen::Index, GemmWorkspace&) {
+                      Eigen::Index, GemmWorkspace&, const GemmEpilogue*) {
   throw std::logic_error("gemm_bf16_packed: built without AVX-512 BF16; use float32");
 }
 

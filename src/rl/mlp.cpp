@@ -138,10 +138,11 @@ const typename MlpT<S>::Mat& MlpT<S>::forward(const Eigen::Ref<const Mat>& x, Ca
           pack_bf16(false, sizes_[l], sizes_[l - 1], w, sizes_[l], cache.w_plain[li]);
         }
         cache.w_plain_ready[li] = 1;
+        GemmEpilogue e;  // bias and tanh applied to each tile while it is in L1
+        e.bias = params_.data() + bias_offset(l);
+        e.tanh = l < L;
         gemm_bf16_packed(cache.w_plain[li], false, out.cols(), in.data(), in.rows(), out.data(),
-                         out.rows(), cache.gemm);
-        out.colwise() += bias(l);
-        if (l < L) out.array() = out.array().tanh();
+                         out.rows(), cache.gemm, &e);
         continue;
       }
     }
@@ -175,57 +176,93 @@ typename MlpT<S>::Mat MlpT<S>::predict(const Eigen::Ref<const Mat>& x) const {
 
 template <class S>
 double MlpT<S>::backward(Cache& cache, const Eigen::Ref<const Mat>& d_out, Eigen::Ref<Vec> grad,
-                       Mat* d_input) const {
+                         Mat* d_input) const {
   const int L = num_layers();
   if (static_cast<int>(cache.a.size()) != L + 1 || d_out.rows() != output_dim() ||
       d_out.cols() != cache.a.back().cols() || grad.size() != num_params())
     throw std::invalid_argument("MLP backward: sizes do not match the cached forward pass");
+  [[maybe_unused]] const bool bf16 = precision_ == MatmulPrecision::BFloat16;
+  const Eigen::Index batch = d_out.cols();
   cache.delta = d_out;
   double squared_norm = 0;
+  bool bias_grad_done = false;  // g_b of layer l already summed by the epilogue of layer l + 1
   for (int l = L; l >= 1; --l) {
     const Mat& below = cache.a[l - 1];
     MatMap g_w(grad.data() + offsets_[l - 1], sizes_[l], sizes_[l - 1]);
     VecMap g_b(grad.data() + bias_offset(l), sizes_[l]);
-    if (!fast_product<S>(fast_gemm_, precision_, false, true, g_w.rows(), g_w.cols(), below.cols(), cache.delta.data(),
-                         cache.delta.rows(), below.data(), below.rows(), g_w.data(), g_w.rows(),
-                         cache.gemm))
+
+    // Weight gradient dW = delta below^T (bf16: its squared norm summed in the epilogue).
+    bool w_norm_done = false;
+    if constexpr (std::is_same_v<S, float>) {
+      if (bf16 && fast_eligible(fast_gemm_, g_w.rows(), g_w.cols(), batch)) {
+        GemmEpilogue e;
+        e.sum_squares = &squared_norm;
+        gemm_bf16(false, true, g_w.rows(), g_w.cols(), batch, cache.delta.data(),
+                  cache.delta.rows(), below.data(), below.rows(), g_w.data(), g_w.rows(),
+                  cache.gemm, &e);
+        w_norm_done = true;
+      }
+    }
+    if (!w_norm_done &&
+        !fast_product<S>(fast_gemm_, precision_, false, true, g_w.rows(), g_w.cols(), batch,
+                         cache.delta.data(), cache.delta.rows(), below.data(), below.rows(),
+                         g_w.data(), g_w.rows(), cache.gemm))
       g_w.noalias() = cache.delta * below.transpose();
+    if (!w_norm_done) squared_norm += static_cast<double>(g_w.squaredNorm());
     // Bias gradient = row sums of delta, as a GEMV with a ones vector (vectorised; a rowwise
     // sum of a column-major matrix walks rows with a stride).
-    if (cache.ones.size() != cache.delta.cols()) cache.ones = Vec::Ones(cache.delta.cols());
-    g_b.noalias() = cache.delta * cache.ones;
-    squared_norm += static_cast<double>(g_w.squaredNorm()) + static_cast<double>(g_b.squaredNorm());
-    if (l > 1) {
-      cache.delta_prev.resize(sizes_[l - 1], cache.delta.cols());
+    if (!bias_grad_done) {
+      if (cache.ones.size() != batch) cache.ones = Vec::Ones(batch);
+      g_b.noalias() = cache.delta * cache.ones;
+    }
+    squared_norm += static_cast<double>(g_b.squaredNorm());
+    bias_grad_done = false;
+
+    if (l == 1) {
+      if (d_input != nullptr) d_input->noalias() = weight(1).transpose() * cache.delta;
+      break;
+    }
+    // Input gradient, times the tanh derivative of the layer below: (W^T delta) .* (1 - a^2).
+    cache.delta_prev.resize(sizes_[l - 1], batch);
+    if constexpr (std::is_same_v<S, float>) {
       const auto li = static_cast<std::size_t>(l);
       if (li < cache.w_transposed_ready.size() && cache.w_transposed_ready[li] &&
-          fast_eligible(fast_gemm_, sizes_[l - 1], cache.delta.cols(), sizes_[l])) {
-        if constexpr (std::is_same_v<S, float>)  // W^T packed by the forward pass
-          gemm_bf16_packed(cache.w_transposed[li], false, cache.delta.cols(), cache.delta.data(),
-                           cache.delta.rows(), cache.delta_prev.data(), sizes_[l - 1],
-                           cache.gemm);
-      } else if (!fast_product<S>(fast_gemm_, precision_, true, false, sizes_[l - 1], cache.delta.cols(), sizes_[l],
-                           params_.data() + offsets_[l - 1], sizes_[l], cache.delta.data(),
-                           cache.delta.rows(), cache.delta_prev.data(), sizes_[l - 1],
-                           cache.gemm))
-      {
-        if (sizes_[l] < 16) {  // output layer: a few outer products, column by column
-          const auto w = weight(l);
-          for (Eigen::Index j = 0; j < cache.delta.cols(); ++j) {
-            auto col = cache.delta_prev.col(j);
-            col = w.row(0).transpose() * cache.delta(0, j);
-            for (Eigen::Index p = 1; p < sizes_[l]; ++p)
-              col += w.row(p).transpose() * cache.delta(p, j);
-          }
-        } else
-          cache.delta_prev.noalias() = weight(l).transpose() * cache.delta;
+          fast_eligible(fast_gemm_, sizes_[l - 1], batch, sizes_[l])) {
+        // W^T packed by the forward pass; the epilogue applies the derivative and sums the bias
+        // gradient of layer l - 1.
+        VecMap g_b_below(grad.data() + bias_offset(l - 1), sizes_[l - 1]);
+        g_b_below.setZero();
+        GemmEpilogue e;
+        e.tanh_of_input = below.data();
+        e.ld_tanh = below.rows();
+        e.row_sums = g_b_below.data();
+        gemm_bf16_packed(cache.w_transposed[li], false, batch, cache.delta.data(),
+                         cache.delta.rows(), cache.delta_prev.data(), sizes_[l - 1], cache.gemm,
+                         &e);
+        cache.delta.swap(cache.delta_prev);
+        bias_grad_done = true;
+        continue;
       }
-      // below = tanh(z): d tanh / dz = 1 - tanh^2
-      cache.delta.resize(below.rows(), below.cols());
-      cache.delta.array() = cache.delta_prev.array() * (S(1) - below.array().square());
-    } else if (d_input != nullptr) {
-      d_input->noalias() = weight(1).transpose() * cache.delta;
     }
+    if (!fast_product<S>(fast_gemm_, precision_, true, false, sizes_[l - 1], batch, sizes_[l],
+                         params_.data() + offsets_[l - 1], sizes_[l], cache.delta.data(),
+                         cache.delta.rows(), cache.delta_prev.data(), sizes_[l - 1],
+                         cache.gemm)) {
+      if (sizes_[l] < 16) {  // output layer: a few outer products, column by column
+        const auto w = weight(l);
+        for (Eigen::Index j = 0; j < batch; ++j) {
+          auto col = cache.delta_prev.col(j);
+          col = w.row(0).transpose() * cache.delta(0, j);
+          for (Eigen::Index p = 1; p < sizes_[l]; ++p)
+            col += w.row(p).transpose() * cache.delta(p, j);
+        }
+      } else {
+        cache.delta_prev.noalias() = weight(l).transpose() * cache.delta;
+      }
+    }
+    // below = tanh(z): d tanh / dz = 1 - tanh^2
+    cache.delta.resize(below.rows(), below.cols());
+    cache.delta.array() = cache.delta_prev.array() * (S(1) - below.array().square());
   }
   return squared_norm;
 }
