@@ -37,20 +37,21 @@ double blind_policy_bound() {  // -mean(s^2) over the grid: the best any state-b
   return -sum / 101;
 }
 
-TEST(PpoLearning, ContextualBanditLearnsStateDependentAction) {
+void learn_contextual_bandit(int hidden, MatmulPrecision precision) {
   PpoConfig cfg;
   cfg.n_steps = 32;
   cfg.batch_size = 64;
   cfg.n_epochs = 10;
   cfg.learning_rate = 1e-3;
-  cfg.actor_hidden = {32, 32};
-  cfg.critic_hidden = {32, 32};
+  cfg.actor_hidden = {hidden, hidden};
+  cfg.critic_hidden = {hidden, hidden};
   const int n_envs = 8;
   const int iterations = 30;  // 30 x 256 = 7680 environment steps
 
   Rng rng(12345);
   ActorCritic model(1, 1, cfg.actor_hidden, cfg.critic_hidden);
   model.init_orthogonal(rng);
+  model.set_matmul_precision(precision);
   Adam adam = make_adam(cfg);
   RolloutBuffer buffer(cfg.n_steps, n_envs, 1, 1);
   const double j0 = deterministic_return(model);
@@ -75,9 +76,21 @@ TEST(PpoLearning, ContextualBanditLearnsStateDependentAction) {
     ppo_update(model, adam, buffer, cfg, timesteps, rng);
   }
   const double j = deterministic_return(model);
-  RecordProperty("initial_return", std::to_string(j0));
-  RecordProperty("final_return", std::to_string(j));
+  ::testing::Test::RecordProperty("initial_return", std::to_string(j0));
+  ::testing::Test::RecordProperty("final_return", std::to_string(j));
   EXPECT_GT(j, blind / 3) << "initial " << j0 << ", blind-policy bound " << blind;
+}
+
+TEST(PpoLearning, ContextualBanditLearnsStateDependentAction) {
+  learn_contextual_bandit(32, MatmulPrecision::Float32);
+}
+
+// The same with 64-unit layers, where the hidden-to-hidden products of the update (64 x 64,
+// minibatch 64) run on the bf16 kernels: forward with the bias/tanh epilogue, weight gradient,
+// and the input gradient through the W^T packed by the forward pass.
+TEST(PpoLearning, ContextualBanditLearnsWithBf16Products) {
+  if (!bf16_gemm_available()) GTEST_SKIP() << "built without AVX-512 BF16";
+  learn_contextual_bandit(64, MatmulPrecision::BFloat16);
 }
 
 }  // namespace
