@@ -6,6 +6,7 @@
 
 #include "io/errors.hpp"
 #include "io/gym_config.hpp"
+#include "rl/gemm.hpp"
 
 namespace codesign::io {
 namespace {
@@ -121,6 +122,52 @@ TEST(GymConfig, CrossFieldRules) {
   EXPECT_NE(m.find("ppo.ent_decay_end"), std::string::npos) << m;
   m = error_of("[ppo]\nent_decay_start = 100\nent_decay_end = 100\n");
   EXPECT_NE(m.find("ppo.ent_decay_end"), std::string::npos) << m;
+}
+
+// ppo.matmul_precision: "auto" (also when absent) resolves to bf16 where the build/CPU has
+// AVX-512 BF16, else float32; "float32" and "bf16" are explicit; anything else is an error that
+// names the key and the allowed values.
+TEST(GymConfig, MatmulPrecisionAbsentOrAutoIsTheBuildDefault) {
+  const rl::MatmulPrecision expected = rl::bf16_gemm_available()
+                                           ? rl::MatmulPrecision::BFloat16
+                                           : rl::MatmulPrecision::Float32;
+  EXPECT_EQ(default_matmul_precision(), expected);
+  EXPECT_EQ(parse("").trainer.ppo.matmul_precision, expected);
+  EXPECT_EQ(parse("[ppo]\ngamma = 0.5\n").trainer.ppo.matmul_precision, expected);
+  EXPECT_EQ(parse("[ppo]\nmatmul_precision = \"auto\"\n").trainer.ppo.matmul_precision, expected);
+  // "auto" whatever the caller's defaults say (documented in gym_config.hpp).
+  for (const auto d : {rl::MatmulPrecision::Float32, rl::MatmulPrecision::BFloat16}) {
+    TableReader root = TableReader::from_string("[ppo]\n", "x.toml");
+    TableReader ppo = root.table("ppo");
+    rl::PpoConfig defaults;
+    defaults.matmul_precision = d;
+    EXPECT_EQ(read_ppo_config(ppo, defaults).matmul_precision, expected);
+  }
+}
+
+TEST(GymConfig, MatmulPrecisionExplicitValues) {
+  EXPECT_EQ(parse("[ppo]\nmatmul_precision = \"float32\"\n").trainer.ppo.matmul_precision,
+            rl::MatmulPrecision::Float32);
+  const std::string bf16 = "[ppo]\nmatmul_precision = \"bf16\"\n";
+  if (rl::bf16_gemm_available()) {
+    EXPECT_EQ(parse(bf16).trainer.ppo.matmul_precision, rl::MatmulPrecision::BFloat16);
+  } else {
+    const std::string m = error_of(bf16);
+    EXPECT_NE(m.find("ppo.matmul_precision"), std::string::npos) << m;
+    EXPECT_NE(m.find("float32"), std::string::npos) << m;  // says what is allowed instead
+  }
+}
+
+TEST(GymConfig, MatmulPrecisionUnknownValueNamesKeyAndAllowedValues) {
+  const std::string m = error_of("[ppo]\nmatmul_precision = \"half\"\n");
+  EXPECT_NE(m.find("test.toml"), std::string::npos) << m;
+  EXPECT_NE(m.find("ppo.matmul_precision"), std::string::npos) << m;
+  EXPECT_NE(m.find("half"), std::string::npos) << m;
+  for (const char* allowed : {"\"auto\"", "\"float32\"", "\"bf16\""})
+    EXPECT_NE(m.find(allowed), std::string::npos) << allowed << " missing from: " << m;
+  // A non-string is rejected too, not read as a default.
+  const std::string n = error_of("[ppo]\nmatmul_precision = 16\n");
+  EXPECT_NE(n.find("ppo.matmul_precision"), std::string::npos) << n;
 }
 
 }  // namespace
