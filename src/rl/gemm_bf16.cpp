@@ -185,7 +185,7 @@ void pack_a(bool trans, const float* a, Index lda, Index m, Index k0, Index kc,
     pack_a_panel_generic(trans, a, lda, m, i0, k0, kc, packed + i0 * kq * 2);
 }
 
-// Packs k range [k0, k0 + kc) of op(B) (n columns) into n_pad / 12 panels of kq pairs each.
+// Packs k range [k0, k0 + kc) of op(B) (n columns) into n_pad / 8 panels of kq pairs each.
 void pack_b(bool trans, const float* b, Index ldb, Index n, Index k0, Index kc,
             std::uint16_t* packed) {
   const Index kq = (kc + 1) / 2;
