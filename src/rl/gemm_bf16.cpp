@@ -51,8 +51,26 @@ constexpr Index kNr = 8;
 constexpr Index kKc = 512;
 
 // Tile of C (ldc) (=|+=) A panel * B panel over kq pairs of k.
-void micro_kernel(Index kq, const std::uint16_t* pa, const std::uint16_t* pb, float* c, Index ldc,
-                  bool accumulate) {
+// The epilogue of one full tile, resolved to tile-local pointers (see GemmEpilogue).
+struct TileEpilogue {
+  const float* bias = nullptr;  // rows i0..i0+31
+  bool tanh = false;
+  const float* t = nullptr;  // (i0, j0) of the tanh output, leading dimension ld_t
+  Index ld_t = 0;
+  bool squares = false;
+  float* row_sums = nullptr;  // rows i0..i0+31
+};
+
+// Tile of C (ldc) (=|+=) A panel * B panel over kq pairs of k; then, if `e` is non-null, the
+// epilogue on the registers before the store (re-loading a just-stored tile would stall on store
+// forwarding). Returns `sq` plus the squares of the stored tile when e->squares.
+__m512 micro_kernel(Index kq, const std::uint16_t* pa, const std::uint16_t* pb, float* c,
+                    Index ldc, bool accumulate, const TileEpilogue* e, __m512 sq) {
+  if (e != nullptr && e->t != nullptr)  // the epilogue's operand arrives during the products
+    for (int j = 0; j < kNr; ++j) {
+      _mm_prefetch(reinterpret_cast<const char*>(e->t + j * e->ld_t), _MM_HINT_T0);
+      _mm_prefetch(reinterpret_cast<const char*>(e->t + j * e->ld_t + 16), _MM_HINT_T0);
+    }
   __m512 c0[kNr], c1[kNr];
 #pragma GCC unroll 8
   for (int j = 0; j < kNr; ++j) {
@@ -72,16 +90,61 @@ void micro_kernel(Index kq, const std::uint16_t* pa, const std::uint16_t* pb, fl
       c1[j] = _mm512_dpbf16_ps(c1[j], a1, bj);
     }
   }
+  if (e == nullptr) {
 #pragma GCC unroll 8
+    for (int j = 0; j < kNr; ++j) {
+      float* cj = c + j * ldc;
+      if (accumulate) {
+        c0[j] = _mm512_add_ps(_mm512_loadu_ps(cj), c0[j]);
+        c1[j] = _mm512_add_ps(_mm512_loadu_ps(cj + 16), c1[j]);
+      }
+      _mm512_storeu_ps(cj, c0[j]);
+      _mm512_storeu_ps(cj + 16, c1[j]);
+    }
+    return sq;
+  }
+  // Epilogue (locals only: __m512 is may_alias, stores through it would force reloads of *e).
+  const float* const bias = e->bias;
+  const bool do_tanh = e->tanh;
+  const float* const t = e->t;
+  const Index ld_t = e->ld_t;
+  const bool squares = e->squares;
+  const __m512 one = _mm512_set1_ps(1.0f);
+  const __m512 b0 = bias ? _mm512_loadu_ps(bias) : _mm512_setzero_ps();
+  const __m512 b1 = bias ? _mm512_loadu_ps(bias + 16) : _mm512_setzero_ps();
+  __m512 s0 = _mm512_setzero_ps(), s1 = _mm512_setzero_ps();
   for (int j = 0; j < kNr; ++j) {
     float* cj = c + j * ldc;
+    __m512 v0 = c0[j], v1 = c1[j];
     if (accumulate) {
-      c0[j] = _mm512_add_ps(_mm512_loadu_ps(cj), c0[j]);
-      c1[j] = _mm512_add_ps(_mm512_loadu_ps(cj + 16), c1[j]);
+      v0 = _mm512_add_ps(_mm512_loadu_ps(cj), v0);
+      v1 = _mm512_add_ps(_mm512_loadu_ps(cj + 16), v1);
     }
-    _mm512_storeu_ps(cj, c0[j]);
-    _mm512_storeu_ps(cj + 16, c1[j]);
+    if (bias) {
+      v0 = _mm512_add_ps(v0, b0);
+      v1 = _mm512_add_ps(v1, b1);
+    }
+    if (do_tanh) {
+      v0 = Eigen::internal::ptanh(v0);
+      v1 = Eigen::internal::ptanh(v1);
+    }
+    if (t) {  // times 1 - t^2
+      const __m512 t0 = _mm512_loadu_ps(t + j * ld_t), t1 = _mm512_loadu_ps(t + j * ld_t + 16);
+      v0 = _mm512_mul_ps(v0, _mm512_fnmadd_ps(t0, t0, one));
+      v1 = _mm512_mul_ps(v1, _mm512_fnmadd_ps(t1, t1, one));
+    }
+    _mm512_storeu_ps(cj, v0);
+    _mm512_storeu_ps(cj + 16, v1);
+    if (squares) sq = _mm512_fmadd_ps(v0, v0, _mm512_fmadd_ps(v1, v1, sq));
+    s0 = _mm512_add_ps(s0, v0);
+    s1 = _mm512_add_ps(s1, v1);
   }
+  if (e->row_sums) {
+    float* const sums = e->row_sums;
+    _mm512_storeu_ps(sums, _mm512_add_ps(_mm512_loadu_ps(sums), s0));
+    _mm512_storeu_ps(sums + 16, _mm512_add_ps(_mm512_loadu_ps(sums + 16), s1));
+  }
+  return sq;
 }
 
 // Interleaves two rows of 16 bf16 values: [x0 y0 x1 y1 ... x15 y15] from floats x, y.
@@ -227,41 +290,54 @@ void pack_b(bool trans, const float* b, Index ldb, Index n, Index k0, Index kc,
 }
 
 // Applies the epilogue to one finished tile of C (rows i0.., `rows` <= 32, `cols` <= 8) while it
-// is still in L1. Accumulates squares into *sq.
-void finish_tile(const GemmEpilogue& e, Index i0, Index rows, Index j0, Index cols, float* c,
-                 Index ldc, __m512& sq) {
-  const __mmask16 k0 = rows >= 16 ? __mmask16(0xffff) : __mmask16((1u << rows) - 1);
-  const __mmask16 k1 =
+// is still in L1. Returns the squares of the tile added to `sq` (sum_squares only). Everything
+// lives in locals: __m512 is may_alias, so a store through a vector reference or array would
+// make the compiler reload every field of `e` after it.
+__m512 finish_tile(const GemmEpilogue& e, Index i0, Index rows, Index j0, Index cols, float* c,
+                   Index ldc, __m512 sq) {
+  const float* const bias_p = e.bias;
+  const bool do_tanh = e.tanh;
+  const float* const t_p = e.tanh_of_input;
+  const Index ld_t = e.ld_tanh;
+  const bool do_sq = e.sum_squares != nullptr;
+  float* const sums_p = e.row_sums;
+  const __mmask16 m0 = rows >= 16 ? __mmask16(0xffff) : __mmask16((1u << rows) - 1);
+  const __mmask16 m1 =
       rows >= 32 ? __mmask16(0xffff) : rows <= 16 ? __mmask16(0) : __mmask16((1u << (rows - 16)) - 1);
-  const __mmask16 mask[2] = {k0, k1};
-  __m512 bias[2] = {_mm512_setzero_ps(), _mm512_setzero_ps()};
-  __m512 row_sum[2] = {_mm512_setzero_ps(), _mm512_setzero_ps()};
-  if (e.bias != nullptr)
-    for (int h = 0; h < 2; ++h) bias[h] = _mm512_maskz_loadu_ps(mask[h], e.bias + i0 + 16 * h);
   const __m512 one = _mm512_set1_ps(1.0f);
+  const __m512 b0 = bias_p ? _mm512_maskz_loadu_ps(m0, bias_p + i0) : _mm512_setzero_ps();
+  const __m512 b1 = bias_p ? _mm512_maskz_loadu_ps(m1, bias_p + i0 + 16) : _mm512_setzero_ps();
+  __m512 s0 = _mm512_setzero_ps(), s1 = _mm512_setzero_ps();
+  auto apply = [&](__m512 v, const float* t, __mmask16 mask, __m512 bias) {
+    if (bias_p) v = _mm512_add_ps(v, bias);
+    if (do_tanh) v = Eigen::internal::ptanh(v);
+    if (t_p) {  // v * (1 - t^2)
+      const __m512 tv = _mm512_maskz_loadu_ps(mask, t);
+      v = _mm512_mul_ps(v, _mm512_fnmadd_ps(tv, tv, one));
+    }
+    return v;
+  };
   for (Index j = 0; j < cols; ++j) {
     float* cj = c + i0 + (j0 + j) * ldc;
-    for (int h = 0; h < 2; ++h) {
-      if (mask[h] == 0) continue;
-      __m512 v = _mm512_maskz_loadu_ps(mask[h], cj + 16 * h);
-      if (e.bias != nullptr) v = _mm512_add_ps(v, bias[h]);
-      if (e.tanh) v = Eigen::internal::ptanh(v);
-      if (e.tanh_of_input != nullptr) {  // v * (1 - t^2)
-        const __m512 t =
-            _mm512_maskz_loadu_ps(mask[h], e.tanh_of_input + i0 + 16 * h + (j0 + j) * e.ld_tanh);
-        v = _mm512_mul_ps(v, _mm512_fnmadd_ps(t, t, one));
-      }
-      _mm512_mask_storeu_ps(cj + 16 * h, mask[h], v);
-      if (e.sum_squares != nullptr) sq = _mm512_fmadd_ps(v, v, sq);
-      if (e.row_sums != nullptr) row_sum[h] = _mm512_add_ps(row_sum[h], v);
+    const float* tj = t_p ? t_p + i0 + (j0 + j) * ld_t : nullptr;
+    const __m512 v0 = apply(_mm512_maskz_loadu_ps(m0, cj), tj, m0, b0);
+    _mm512_mask_storeu_ps(cj, m0, v0);
+    __m512 v1 = _mm512_setzero_ps();
+    if (m1 != 0) {
+      v1 = apply(_mm512_maskz_loadu_ps(m1, cj + 16), tj ? tj + 16 : nullptr, m1, b1);
+      _mm512_mask_storeu_ps(cj + 16, m1, v1);
     }
+    if (do_sq) sq = _mm512_fmadd_ps(v0, v0, _mm512_fmadd_ps(v1, v1, sq));
+    s0 = _mm512_add_ps(s0, v0);
+    s1 = _mm512_add_ps(s1, v1);
   }
-  if (e.row_sums != nullptr)
-    for (int h = 0; h < 2; ++h) {
-      float* dst = e.row_sums + i0 + 16 * h;
-      _mm512_mask_storeu_ps(dst, mask[h],
-                            _mm512_add_ps(_mm512_maskz_loadu_ps(mask[h], dst), row_sum[h]));
-    }
+  if (sums_p) {
+    _mm512_mask_storeu_ps(sums_p + i0, m0, _mm512_add_ps(_mm512_maskz_loadu_ps(m0, sums_p + i0), s0));
+    if (m1 != 0)
+      _mm512_mask_storeu_ps(sums_p + i0 + 16, m1,
+                            _mm512_add_ps(_mm512_maskz_loadu_ps(m1, sums_p + i0 + 16), s1));
+  }
+  return sq;
 }
 
 // C (=|+=) packed A block (m rows, kq pairs) * op(B) for the k range [k0, k0 + kc); `e` is
@@ -286,14 +362,27 @@ void multiply_block(const std::uint16_t* pa, Index m, Index k0, Index kc, bool t
       const Index rows = std::min(kMr, m - i0);
       float* c_tile = c + i0 + j0 * ldc;
       if (rows == kMr && cols == kNr) {
-        micro_kernel(kq, pa + i0 * kq * 2, pb + j0 * kq * 2, c_tile, ldc, accumulate);
-      } else {
-        micro_kernel(kq, pa + i0 * kq * 2, pb + j0 * kq * 2, tile, kMr, false);
+        if (e != nullptr) {  // epilogue in registers
+          TileEpilogue te;
+          te.bias = e->bias ? e->bias + i0 : nullptr;
+          te.tanh = e->tanh;
+          te.t = e->tanh_of_input ? e->tanh_of_input + i0 + j0 * e->ld_tanh : nullptr;
+          te.ld_t = e->ld_tanh;
+          te.squares = e->sum_squares != nullptr;
+          te.row_sums = e->row_sums ? e->row_sums + i0 : nullptr;
+          sq = micro_kernel(kq, pa + i0 * kq * 2, pb + j0 * kq * 2, c_tile, ldc, accumulate, &te,
+                            sq);
+        } else {
+          micro_kernel(kq, pa + i0 * kq * 2, pb + j0 * kq * 2, c_tile, ldc, accumulate, nullptr,
+                       sq);
+        }
+      } else {  // edge: through a scratch tile, then the epilogue on the valid part
+        micro_kernel(kq, pa + i0 * kq * 2, pb + j0 * kq * 2, tile, kMr, false, nullptr, sq);
         for (Index j = 0; j < cols; ++j)
           for (Index i = 0; i < rows; ++i)
             c_tile[i + j * ldc] = (accumulate ? c_tile[i + j * ldc] : 0.0f) + tile[i + j * kMr];
+        if (e != nullptr) sq = finish_tile(*e, i0, rows, j0, cols, c, ldc, sq);
       }
-      if (e != nullptr) finish_tile(*e, i0, rows, j0, cols, c, ldc, sq);
     }
     // Squares summed in float over one column panel (at most 8 x m terms), then in double.
     if (e != nullptr && e->sum_squares != nullptr) {
