@@ -43,53 +43,83 @@ void adam_block_avx512(float* p, const float* g, float* m, float* v, Eigen::Inde
 }  // namespace
 
 template <class S>
-void AdamT<S>::step(std::span<const AdamBlock<S>> blocks, double lr, double grad_scale) {
+void AdamT<S>::begin_step(std::span<const AdamBlock<S>> blocks, double lr, double grad_scale) {
   using Vec = Eigen::Matrix<S, Eigen::Dynamic, 1>;
   if (m_.empty()) {
     for (const auto& b : blocks) {
       m_.push_back(Vec::Zero(b.size));
       v_.push_back(Vec::Zero(b.size));
     }
+    applied_.assign(blocks.size(), 0);
   } else {
     bool same = blocks.size() == m_.size();
     for (std::size_t i = 0; same && i < blocks.size(); ++i) same = blocks[i].size == m_[i].size();
     if (!same) throw std::invalid_argument("Adam::step: parameter blocks changed between steps");
   }
+  if (pending())
+    throw std::logic_error("Adam::begin_step: the previous step was not applied to every entry");
   ++t_;
   const double b1 = config_.beta1, b2 = config_.beta2;
   const double bias_c1 = 1.0 - std::pow(b1, static_cast<double>(t_));
   const double bias_c2 = 1.0 - std::pow(b2, static_cast<double>(t_));
-  const S step_size = static_cast<S>(lr / bias_c1);
-  const S inv_sqrt_bc2 = static_cast<S>(1.0 / std::sqrt(bias_c2));
-  const S eps = static_cast<S>(config_.eps);
-  const S sb1 = static_cast<S>(b1), sb2 = static_cast<S>(b2);
+  k_.step_size = static_cast<S>(lr / bias_c1);
+  k_.inv_sqrt_bc2 = static_cast<S>(1.0 / std::sqrt(bias_c2));
+  k_.eps = static_cast<S>(config_.eps);
+  k_.b1 = static_cast<S>(b1);
+  k_.b2 = static_cast<S>(b2);
   // (1 - b1) s g and (1 - b2) (s g)^2 with the clipping factor s folded into the constants.
-  const S c1 = static_cast<S>((1.0 - b1) * grad_scale);
-  const S c2 = static_cast<S>((1.0 - b2) * grad_scale * grad_scale);
-  // Portable path (double, or no AVX-512). Chunks of 2048 entries: the three vectorised Eigen expressions of a chunk run on data still
-  // in L1, so the ~1M parameters, gradients and moments stream through memory once per step
-  // (a scalar fused loop would not vectorise std::sqrt without -fno-math-errno).
-  constexpr Eigen::Index kChunk = 2048;
-  for (std::size_t i = 0; i < blocks.size(); ++i) {
-    const Eigen::Index n = blocks[i].size;
+  k_.c1 = static_cast<S>((1.0 - b1) * grad_scale);
+  k_.c2 = static_cast<S>((1.0 - b2) * grad_scale * grad_scale);
+  for (std::size_t i = 0; i < blocks.size(); ++i) applied_[i] = -blocks[i].size;
+}
+
+template <class S>
+bool AdamT<S>::pending() const {
+  for (const Eigen::Index a : applied_)
+    if (a != 0) return true;
+  return false;
+}
+
+template <class S>
+void AdamT<S>::apply(std::span<const AdamBlock<S>> blocks, std::size_t i, Eigen::Index begin,
+                     Eigen::Index end) {
+  using Vec = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+  if (i >= blocks.size() || i >= m_.size() || begin < 0 || end > blocks[i].size || begin > end ||
+      applied_[i] + (end - begin) > 0)
+    throw std::logic_error("Adam::apply: range outside the pending step");
+  applied_[i] += end - begin;
+  S* const param = blocks[i].param + begin;
+  const S* const grad = blocks[i].grad + begin;
+  S* const m = m_[i].data() + begin;
+  S* const v = v_[i].data() + begin;
+  const Eigen::Index n = end - begin;
 #if defined(__AVX512F__)
-    if constexpr (std::is_same_v<S, float>) {
-      adam_block_avx512(blocks[i].param, blocks[i].grad, m_[i].data(), v_[i].data(), n, sb1, sb2,
-                        c1, c2, step_size, inv_sqrt_bc2, eps);
-      continue;
-    }
-#endif
-    for (Eigen::Index s = 0; s < n; s += kChunk) {
-      const Eigen::Index len = std::min(kChunk, n - s);
-      Eigen::Map<Vec> p(blocks[i].param + s, len);
-      Eigen::Map<const Vec> g(blocks[i].grad + s, len);
-      auto m = m_[i].segment(s, len);
-      auto v = v_[i].segment(s, len);
-      m = sb1 * m + c1 * g;
-      v = sb2 * v + c2 * g.cwiseAbs2();
-      p.array() -= step_size * m.array() / (v.array().sqrt() * inv_sqrt_bc2 + eps);
-    }
+  if constexpr (std::is_same_v<S, float>) {
+    adam_block_avx512(param, grad, m, v, n, k_.b1, k_.b2, k_.c1, k_.c2, k_.step_size,
+                      k_.inv_sqrt_bc2, k_.eps);
+    return;
   }
+#endif
+  // Portable path (double, or no AVX-512). Chunks of 2048 entries: the three vectorised Eigen
+  // expressions of a chunk run on data still in L1, so parameters, gradients and moments stream
+  // through memory once (a scalar fused loop would not vectorise std::sqrt without
+  // -fno-math-errno).
+  constexpr Eigen::Index kChunk = 2048;
+  for (Eigen::Index s = 0; s < n; s += kChunk) {
+    const Eigen::Index len = std::min(kChunk, n - s);
+    Eigen::Map<Vec> p(param + s, len);
+    Eigen::Map<const Vec> g(grad + s, len);
+    Eigen::Map<Vec> mm(m + s, len), vv(v + s, len);
+    mm = k_.b1 * mm + k_.c1 * g;
+    vv = k_.b2 * vv + k_.c2 * g.cwiseAbs2();
+    p.array() -= k_.step_size * mm.array() / (vv.array().sqrt() * k_.inv_sqrt_bc2 + k_.eps);
+  }
+}
+
+template <class S>
+void AdamT<S>::step(std::span<const AdamBlock<S>> blocks, double lr, double grad_scale) {
+  begin_step(blocks, lr, grad_scale);
+  for (std::size_t i = 0; i < blocks.size(); ++i) apply(blocks, i, 0, blocks[i].size);
 }
 
 template class AdamT<float>;

@@ -42,6 +42,17 @@ class AdamT {
   // the same pass over memory; 1 = no scaling).
   void step(std::span<const AdamBlock<S>> blocks, double lr, double grad_scale = 1.0);
 
+  // The same step, deferred: begin_step() advances the step counter and fixes lr and
+  // grad_scale; apply() then updates entries [begin, end) of block i. Every entry of every block
+  // must be applied exactly once before the next begin_step() (checked by count; throws
+  // std::logic_error otherwise). step() = begin_step() + apply() on every whole block. The
+  // learner uses it to update each layer's weights just before the next forward pass reads them
+  // (still in cache for the bf16 packing).
+  void begin_step(std::span<const AdamBlock<S>> blocks, double lr, double grad_scale = 1.0);
+  void apply(std::span<const AdamBlock<S>> blocks, std::size_t i, Eigen::Index begin,
+             Eigen::Index end);
+  bool pending() const;  // a step was begun and not applied everywhere yet
+
   std::int64_t step_count() const { return t_; }
   const AdamConfig& config() const { return config_; }
   // First and second moments of block i (empty before the first step).
@@ -53,6 +64,10 @@ class AdamT {
   std::int64_t t_ = 0;
   std::vector<Eigen::Matrix<S, Eigen::Dynamic, 1>> m_;
   std::vector<Eigen::Matrix<S, Eigen::Dynamic, 1>> v_;
+  std::vector<Eigen::Index> applied_;  // per block: minus the entries still to apply
+  struct Constants {
+    S step_size = 0, inv_sqrt_bc2 = 0, eps = 0, b1 = 0, b2 = 0, c1 = 0, c2 = 0;
+  } k_;  // of the current step
 };
 
 using Adam = AdamT<float>;

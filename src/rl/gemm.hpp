@@ -14,6 +14,7 @@
 // panels (fits L1). Edges are zero-padded in the packed copies and written through a scratch
 // tile.
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -80,8 +81,13 @@ void pack_bf16(bool trans_a, Eigen::Index m, Eigen::Index k, const float* a, Eig
 // Packs W (m x k) as `plain` (op = W) and as `transposed` (op = W^T) in one pass over W where
 // m and k are multiples of 32 up to 512 (two passes otherwise): a layer's weight is used as W in
 // the forward pass and as W^T for the input gradient.
+// If before_columns is given it is called with [c0, c1) before those columns of W are read
+// (consecutive ranges covering all k columns), so that a caller can finish writing W just in time
+// (the learner's deferred optimiser step; the columns are then still in cache).
+using ColumnHook = std::function<void(Eigen::Index c0, Eigen::Index c1)>;
 void pack_bf16_both(Eigen::Index m, Eigen::Index k, const float* w, Eigen::Index ldw,
-                    PackedBf16& plain, PackedBf16& transposed);
+                    PackedBf16& plain, PackedBf16& transposed,
+                    const ColumnHook* before_columns = nullptr);
 // C (a.m x n) = op(A) op(B) with A packed; same arithmetic as gemm_bf16.
 void gemm_bf16_packed(const PackedBf16& a, bool trans_b, Eigen::Index n, const float* b,
                       Eigen::Index ldb, float* c, Eigen::Index ldc, GemmWorkspace& ws,

@@ -432,9 +432,10 @@ void pack_bf16(bool trans_a, Index m, Index k, const float* a, Index lda, Packed
 }
 
 void pack_bf16_both(Index m, Index k, const float* w, Index ldw, PackedBf16& plain,
-                    PackedBf16& transposed) {
+                    PackedBf16& transposed, const ColumnHook* before_columns) {
   check_dims(m, 1, k, "pack_bf16_both");
   if (m % kMr != 0 || k % kMr != 0 || m > kKc || k > kKc) {  // general shapes: two passes
+    if (before_columns != nullptr) (*before_columns)(0, k);
     pack_bf16(false, m, k, w, ldw, plain);
     pack_bf16(true, k, m, w, ldw, transposed);
     return;
@@ -453,6 +454,7 @@ void pack_bf16_both(Index m, Index k, const float* w, Index ldw, PackedBf16& pla
   __m512i r[16];
   // Columns outer, rows inner: 16 sequential read streams down 16 columns of W.
   for (Index c0 = 0; c0 < k; c0 += 16) {
+    if (before_columns != nullptr) (*before_columns)(c0, c0 + 16);
     for (Index r0 = 0; r0 < m; r0 += kMr) {
       std::uint16_t* plain_panel = plain.data.data() + r0 * kq_plain * 2;
       for (int c = 0; c < 16; ++c)
@@ -494,7 +496,7 @@ void pack_bf16(bool, Eigen::Index, Eigen::Index, const float*, Eigen::Index, Pac
   throw std::logic_error("pack_bf16: built without AVX-512 BF16; use float32");
 }
 void pack_bf16_both(Eigen::Index, Eigen::Index, const float*, Eigen::Index, PackedBf16&,
-                    PackedBf16&) {
+                    PackedBf16&, const ColumnHook*) {
   throw std::logic_error("pack_bf16_both: built without AVX-512 BF16; use float32");
 }
 void gemm_bf16_packed(const PackedBf16&, bool, Eigen::Index, const float*, Eigen::Index, float*,

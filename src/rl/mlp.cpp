@@ -109,7 +109,8 @@ void MlpT<S>::init_orthogonal(S output_gain, Rng& rng) {
 }
 
 template <class S>
-const typename MlpT<S>::Mat& MlpT<S>::forward(const Eigen::Ref<const Mat>& x, Cache& cache) const {
+const typename MlpT<S>::Mat& MlpT<S>::forward(const Eigen::Ref<const Mat>& x, Cache& cache,
+                                              const ParamHook* before_use) const {
   if (x.rows() != input_dim())
     throw std::invalid_argument("MLP input has " + std::to_string(x.rows()) + " rows, expected " +
                                 std::to_string(input_dim()));
@@ -125,14 +126,30 @@ const typename MlpT<S>::Mat& MlpT<S>::forward(const Eigen::Ref<const Mat>& x, Ca
     Mat& out = cache.a[l];
     out.resize(sizes_[l], x.cols());
     const Mat& in = cache.a[l - 1];
+    const bool fused_update = std::is_same_v<S, float> &&
+                              precision_ == MatmulPrecision::BFloat16 &&
+                              fast_eligible(fast_gemm_, out.rows(), out.cols(), in.rows()) &&
+                              cache.keep_transposed_weights;
+    if (before_use != nullptr && !fused_update)  // the whole layer, before anything reads it
+      (*before_use)(offsets_[l - 1], bias_offset(l) + sizes_[l]);
     if constexpr (std::is_same_v<S, float>) {
       if (precision_ == MatmulPrecision::BFloat16 &&
           fast_eligible(fast_gemm_, out.rows(), out.cols(), in.rows())) {
         const float* w = params_.data() + offsets_[l - 1];
         const auto li = static_cast<std::size_t>(l);
         if (cache.keep_transposed_weights) {
-          pack_bf16_both(sizes_[l], sizes_[l - 1], w, sizes_[l], cache.w_plain[li],
-                         cache.w_transposed[li]);
+          if (before_use != nullptr) {  // W's columns made current just before they are packed
+            const Eigen::Index offset = offsets_[l - 1], rows = sizes_[l];
+            const ColumnHook columns = [&](Eigen::Index c0, Eigen::Index c1) {
+              (*before_use)(offset + c0 * rows, offset + c1 * rows);
+            };
+            pack_bf16_both(sizes_[l], sizes_[l - 1], w, sizes_[l], cache.w_plain[li],
+                           cache.w_transposed[li], &columns);
+            (*before_use)(bias_offset(l), bias_offset(l) + sizes_[l]);
+          } else {
+            pack_bf16_both(sizes_[l], sizes_[l - 1], w, sizes_[l], cache.w_plain[li],
+                           cache.w_transposed[li]);
+          }
           cache.w_transposed_ready[li] = 1;
         } else if (!(cache.reuse_packed_weights && cache.w_plain_ready[li])) {
           pack_bf16(false, sizes_[l], sizes_[l - 1], w, sizes_[l], cache.w_plain[li]);

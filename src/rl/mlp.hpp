@@ -13,6 +13,7 @@
 //   * all parameters live in ONE flat vector, layer by layer: W_1 (column-major), b_1, W_2, b_2,
 //     ... . Gradients use the same layout, so optimiser, gradient clipping and the policy file
 //     treat the network as one vector. weight(l)/bias(l) are Eigen::Map views into it.
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -87,7 +88,13 @@ class MlpT {
   void set_matmul_precision(MatmulPrecision p);
   MatmulPrecision matmul_precision() const { return precision_; }
   // Batched forward; fills cache.a and returns cache.a.back() (output_dim x B).
-  const Mat& forward(const Eigen::Ref<const Mat>& x, Cache& cache) const;
+  // If before_use is given, it is called with flat parameter ranges [begin, end) before forward
+  // reads them; the ranges are disjoint and together cover every parameter once (layer by layer;
+  // a weight packed for bf16 column block by column block). The learner finishes its deferred
+  // optimiser step through it (ppo.cpp).
+  using ParamHook = std::function<void(Eigen::Index begin, Eigen::Index end)>;
+  const Mat& forward(const Eigen::Ref<const Mat>& x, Cache& cache,
+                     const ParamHook* before_use = nullptr) const;
   // Forward without keeping anything.
   Mat predict(const Eigen::Ref<const Mat>& x) const;
 

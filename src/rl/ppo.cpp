@@ -84,8 +84,11 @@ PpoLossT<S> ppo_minibatch_loss(const ActorCriticT<S>& model, const PpoMinibatchT
     adv = (adv.array() - mean) / (stddev + S(1e-8));
   }
 
-  const auto& mean_action = model.actor().forward(batch.obs, ws.actor_cache);
-  const auto& values = model.critic().forward(batch.obs, ws.critic_cache);
+  const auto& mean_action = model.actor().forward(
+      batch.obs, ws.actor_cache, ws.actor_pending ? &ws.actor_pending : nullptr);
+  const auto& values = model.critic().forward(
+      batch.obs, ws.critic_cache, ws.critic_pending ? &ws.critic_pending : nullptr);
+  if (ws.log_std_pending) ws.log_std_pending();
   const RowVec log_prob = gaussian_log_prob<S>(mean_action, model.log_std(), batch.actions);
   const RowVec log_ratio = log_prob - batch.old_log_prob;
   const RowVec ratio = log_ratio.array().exp();
@@ -151,7 +154,8 @@ double explained_variance(const Eigen::RowVectorXf& y_pred, const Eigen::RowVect
 }  // namespace
 
 PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& buffer,
-                    const PpoConfig& config, std::int64_t num_timesteps, Rng& rng) {
+                    const PpoConfig& config, std::int64_t num_timesteps, Rng& rng,
+                    bool defer_optimizer_step) {
   validate(config);
   if (!buffer.full()) throw std::logic_error("ppo_update: rollout buffer is not full");
   const Eigen::Index n = buffer.size();
@@ -193,6 +197,11 @@ PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& bu
         mb.returns(j) = buffer.returns()(k);
       }
       const PpoLossT<float> l = ppo_minibatch_loss<float>(model, mb, coefs, &grad, ws);
+      if (optimizer.pending())  // the forward passes applied the previous step everywhere
+        throw std::logic_error("ppo_update: optimiser step not fully applied by the forward pass");
+      ws.actor_pending = nullptr;
+      ws.critic_pending = nullptr;
+      ws.log_std_pending = nullptr;
       sum_pg += l.pg_loss;
       sum_v += l.value_loss;
       sum_ent += l.entropy_loss;
@@ -210,10 +219,19 @@ PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& bu
       const double clip_coef = config.max_grad_norm / (norm + 1e-6);
       // clip_grad_norm_ scales by clip_coef when it is < 1; Adam applies the factor as it reads
       // each gradient (one pass over memory instead of two).
-      optimizer.step(blocks, config.learning_rate, std::min(clip_coef, 1.0));
+      if (defer_optimizer_step) {
+        optimizer.begin_step(blocks, config.learning_rate, std::min(clip_coef, 1.0));
+        ws.actor_pending = [&](Eigen::Index b, Eigen::Index e) { optimizer.apply(blocks, 0, b, e); };
+        ws.critic_pending = [&](Eigen::Index b, Eigen::Index e) { optimizer.apply(blocks, 1, b, e); };
+        ws.log_std_pending = [&] { optimizer.apply(blocks, 2, 0, blocks[2].size); };
+      } else {
+        optimizer.step(blocks, config.learning_rate, std::min(clip_coef, 1.0));
+      }
       ++stats.minibatches_applied;
     }
   }
+  if (optimizer.pending())  // the last step: no forward pass follows
+    for (std::size_t i = 0; i < blocks.size(); ++i) optimizer.apply(blocks, i, 0, blocks[i].size);
   if (n_losses > 0) {
     stats.pg_loss = sum_pg / n_losses;
     stats.value_loss = sum_v / n_losses;

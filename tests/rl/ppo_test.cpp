@@ -224,6 +224,54 @@ TEST(PpoUpdate, GradientNormIsGlobalAndClipped) {
   EXPECT_LT(clipped_step, 1e-4 * cfg.learning_rate * 1.01);
 }
 
+// Deferring each Adam step into the next forward pass (the default) must not change a single
+// bit: the same arithmetic on the same values, only later. Hidden sizes 64 and 96 put the
+// 96 x 64 layer on the fused path (bf16 products, W packed column block by column block right
+// after its update); 16 envs x 8 steps = 128 samples in minibatches of 64 (>= 32 columns).
+TEST(PpoUpdate, DeferredOptimizerStepIsBitIdenticalToStepping) {
+  for (MatmulPrecision p : {MatmulPrecision::Float32, MatmulPrecision::BFloat16}) {
+    if (p == MatmulPrecision::BFloat16 && !bf16_gemm_available()) continue;
+    Rng rng(21);
+    ActorCritic model(6, 1, {64, 96}, {96, 64});
+    model.init_orthogonal(rng);
+    model.set_matmul_precision(p);
+    RolloutBuffer buf(8, 16, 6, 1);
+    for (int t = 0; t < 8; ++t) {
+      Eigen::MatrixXf obs(6, 16);
+      for (Eigen::Index i = 0; i < obs.size(); ++i) obs(i) = static_cast<float>(rng.normal());
+      const auto a = model.act(obs, rng);
+      Eigen::RowVectorXf r(16);
+      for (Eigen::Index e = 0; e < 16; ++e) r(e) = static_cast<float>(rng.normal());
+      buf.add(obs, a.actions, r, Eigen::RowVectorXf::Constant(16, t == 0 ? 1.f : 0.f), a.values,
+              a.log_probs);
+    }
+    buf.compute_returns_and_advantage(Eigen::RowVectorXf::Zero(16), Eigen::RowVectorXf::Zero(16),
+                                      0.99, 0.95);
+    PpoConfig cfg;
+    cfg.batch_size = 64;
+    cfg.n_epochs = 3;
+    cfg.learning_rate = 1e-3;
+    ActorCritic deferred = model, stepped = model;
+    Adam adam_d = make_adam(cfg), adam_s = make_adam(cfg);
+    for (int update = 0; update < 2; ++update) {  // two updates: Adam state carries over
+      Rng r1(7 + update), r2(7 + update);
+      const PpoStats sd = ppo_update(deferred, adam_d, buf, cfg, 0, r1, true);
+      const PpoStats ss = ppo_update(stepped, adam_s, buf, cfg, 0, r2, false);
+      EXPECT_EQ(sd.minibatches_applied, 6);
+      EXPECT_EQ(sd.loss, ss.loss);
+      EXPECT_FALSE(adam_d.pending());
+    }
+    EXPECT_EQ(deferred.actor().params(), stepped.actor().params());
+    EXPECT_EQ(deferred.critic().params(), stepped.critic().params());
+    EXPECT_EQ(deferred.log_std(), stepped.log_std());
+    for (std::size_t i = 0; i < 3; ++i) {
+      EXPECT_EQ(adam_d.first_moment(i), adam_s.first_moment(i));
+      EXPECT_EQ(adam_d.second_moment(i), adam_s.second_moment(i));
+    }
+    EXPECT_NE(deferred.actor().params(), model.actor().params());  // it did learn something
+  }
+}
+
 TEST(PpoConfig, EntropyCoefficientDecaysLinearly) {
   const PpoConfig c = paper_ppo_config();
   EXPECT_DOUBLE_EQ(entropy_coef_at(c, 0), 0.01);
