@@ -27,15 +27,7 @@ struct ActorCriticGradT {
   Vec actor;    // same layout as ActorCriticT::actor().params()
   Vec critic;   // same layout as ActorCriticT::critic().params()
   Vec log_std;  // act_dim
-
-  S squared_norm() const {
-    return actor.squaredNorm() + critic.squaredNorm() + log_std.squaredNorm();
-  }
-  void scale(S factor) {
-    actor *= factor;
-    critic *= factor;
-    log_std *= factor;
-  }
+  // (Its squared norm comes from MlpT::backward; clipping is folded into the Adam step.)
 };
 
 template <class S>

@@ -126,30 +126,25 @@ const typename MlpT<S>::Mat& MlpT<S>::forward(const Eigen::Ref<const Mat>& x, Ca
     Mat& out = cache.a[l];
     out.resize(sizes_[l], x.cols());
     const Mat& in = cache.a[l - 1];
-    const bool fused_update = std::is_same_v<S, float> &&
-                              precision_ == MatmulPrecision::BFloat16 &&
-                              fast_eligible(fast_gemm_, out.rows(), out.cols(), in.rows()) &&
-                              cache.keep_transposed_weights;
-    if (before_use != nullptr && !fused_update)  // the whole layer, before anything reads it
+    const bool bf16_layer = std::is_same_v<S, float> &&
+                            precision_ == MatmulPrecision::BFloat16 &&
+                            fast_eligible(fast_gemm_, out.rows(), out.cols(), in.rows());
+    // W packed as W and W^T: its columns are made current just before they are packed.
+    const bool pack_by_columns = bf16_layer && cache.keep_transposed_weights;
+    if (before_use != nullptr && !pack_by_columns)  // the whole layer, before anything reads it
       (*before_use)(offsets_[l - 1], bias_offset(l) + sizes_[l]);
     if constexpr (std::is_same_v<S, float>) {
-      if (precision_ == MatmulPrecision::BFloat16 &&
-          fast_eligible(fast_gemm_, out.rows(), out.cols(), in.rows())) {
+      if (bf16_layer) {
         const float* w = params_.data() + offsets_[l - 1];
         const auto li = static_cast<std::size_t>(l);
-        if (cache.keep_transposed_weights) {
-          if (before_use != nullptr) {  // W's columns made current just before they are packed
-            const Eigen::Index offset = offsets_[l - 1], rows = sizes_[l];
-            const ColumnHook columns = [&](Eigen::Index c0, Eigen::Index c1) {
-              (*before_use)(offset + c0 * rows, offset + c1 * rows);
-            };
-            pack_bf16_both(sizes_[l], sizes_[l - 1], w, sizes_[l], cache.w_plain[li],
-                           cache.w_transposed[li], &columns);
-            (*before_use)(bias_offset(l), bias_offset(l) + sizes_[l]);
-          } else {
-            pack_bf16_both(sizes_[l], sizes_[l - 1], w, sizes_[l], cache.w_plain[li],
-                           cache.w_transposed[li]);
-          }
+        if (pack_by_columns) {
+          const Eigen::Index offset = offsets_[l - 1], rows = sizes_[l];
+          const ColumnHook columns = [&](Eigen::Index c0, Eigen::Index c1) {
+            (*before_use)(offset + c0 * rows, offset + c1 * rows);
+          };
+          pack_bf16_both(sizes_[l], sizes_[l - 1], w, sizes_[l], cache.w_plain[li],
+                         cache.w_transposed[li], before_use != nullptr ? &columns : nullptr);
+          if (before_use != nullptr) (*before_use)(bias_offset(l), bias_offset(l) + sizes_[l]);
           cache.w_transposed_ready[li] = 1;
         } else if (!(cache.reuse_packed_weights && cache.w_plain_ready[li])) {
           pack_bf16(false, sizes_[l], sizes_[l - 1], w, sizes_[l], cache.w_plain[li]);
