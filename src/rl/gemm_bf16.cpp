@@ -133,8 +133,15 @@ __m512 micro_kernel(Index kq, const std::uint16_t* pa, const std::uint16_t* pb, 
       v0 = _mm512_mul_ps(v0, _mm512_fnmadd_ps(t0, t0, one));
       v1 = _mm512_mul_ps(v1, _mm512_fnmadd_ps(t1, t1, one));
     }
-    _mm512_storeu_ps(cj, v0);
-    _mm512_storeu_ps(cj + 16, v1);
+    // A gradient (the squares epilogue) is read again only by the optimiser, a minibatch later:
+    // streaming stores keep it from evicting the packed operands of the products in between.
+    if (squares && (reinterpret_cast<std::uintptr_t>(cj) % 64 == 0)) {
+      _mm512_stream_ps(cj, v0);
+      _mm512_stream_ps(cj + 16, v1);
+    } else {
+      _mm512_storeu_ps(cj, v0);
+      _mm512_storeu_ps(cj + 16, v1);
+    }
     if (squares) sq = _mm512_fmadd_ps(v0, v0, _mm512_fmadd_ps(v1, v1, sq));
     s0 = _mm512_add_ps(s0, v0);
     s1 = _mm512_add_ps(s1, v1);
@@ -390,6 +397,7 @@ void multiply_block(const std::uint16_t* pa, Index m, Index k0, Index kc, bool t
       sq = _mm512_setzero_ps();
     }
   }
+  if (e != nullptr && e->sum_squares != nullptr) _mm_sfence();  // order the streaming stores
 }
 
 // Offset of K block k0 (a multiple of kKc) in a packed A of m rows: every earlier block is full.
