@@ -26,6 +26,7 @@
 #endif
 
 #include "commands.hpp"
+#include "io/gym_config.hpp"
 #include "rl/gemm.hpp"
 #include "rl/ppo.hpp"
 
@@ -239,7 +240,7 @@ int run_bench(const BenchOptions& o) {
   const rl::MatmulPrecision precision =
       o.precision == "float32" ? rl::MatmulPrecision::Float32
       : o.precision == "bf16"  ? rl::MatmulPrecision::BFloat16
-      : (rl::bf16_gemm_available() ? rl::MatmulPrecision::BFloat16 : rl::MatmulPrecision::Float32);
+                               : io::default_matmul_precision();
 
   std::printf("PPO iteration benchmark (one thread, Eigen %d.%d.%d, SIMD: %s)\n",
               EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION,

@@ -162,15 +162,19 @@ const typename MlpT<S>::Mat& MlpT<S>::forward(const Eigen::Ref<const Mat>& x, Ca
                          params_.data() + offsets_[l - 1], out.rows(), in.data(), in.rows(),
                          out.data(), out.rows(), cache.gemm)) {
       // A short inner dimension (the observation layer) column by column: no zero-fill and no
-      // packing of the operands.
+      // packing of the operands; bias and tanh while the column is in L1.
       if (in.rows() < 16) {
         const auto w = weight(l);
+        const auto b = bias(l);
         for (Eigen::Index j = 0; j < in.cols(); ++j) {
-          out.col(j) = w.col(0) * in(0, j);
-          for (Eigen::Index p = 1; p < in.rows(); ++p) out.col(j) += w.col(p) * in(p, j);
+          auto col = out.col(j);
+          col = b + w.col(0) * in(0, j);
+          for (Eigen::Index p = 1; p < in.rows(); ++p) col += w.col(p) * in(p, j);
+          if (l < L) col.array() = col.array().tanh();
         }
-      } else
-        out.noalias() = weight(l) * in;
+        continue;
+      }
+      out.noalias() = weight(l) * in;
     }
     out.colwise() += bias(l);
     // (Kept apart from the bias: Eigen evaluates tanh of a broadcast sum one scalar at a time.)
