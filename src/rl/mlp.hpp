@@ -3,8 +3,9 @@
 //
 // Precision: the learner runs in float32 (MlpT<float>, alias Mlp). Every GEMM of a PPO update is
 // twice as fast in float32 as in float64 on AVX-512 hardware, and PyTorch/SB3 train in float32
-// too. The class is templated on the scalar so that the gradient checks in tests/rl run in
-// float64 (MlpT<double>); both are explicitly instantiated in mlp.cpp.
+// too. set_matmul_precision(BFloat16) rounds the operands of the large products to bf16 (float32
+// sums, as bf16 autocast; docs/rl.md). The class is templated on the scalar so that the gradient
+// checks in tests/rl run in float64 (MlpT<double>); both are explicitly instantiated in mlp.cpp.
 //
 // Layout (chosen for GEMM efficiency with Eigen's column-major storage):
 //   * a batch is a matrix with one COLUMN per sample: input (in x B), output (out x B);
@@ -41,7 +42,7 @@ class MlpT {
     Mat delta;           // backward scratch: dL/d(pre-activation) of the current layer
     Mat delta_prev;      // backward scratch: dL/d(activation) of the layer below
     Vec ones;            // backward scratch: a vector of ones (bias gradients)
-    GemmWorkspace gemm;  // packed panels of the float32 GEMM (gemm.hpp)
+    GemmWorkspace gemm;  // packed panels of the blocked GEMMs (gemm.hpp)
     // bf16 products: each large layer's weight packed by forward() as W and, when
     // keep_transposed_weights, as W^T for backward() (one read of W serves both products).
     std::vector<PackedBf16> w_plain, w_transposed;
