@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Builds and runs every test: first the Release build, then the same tests built with
-# AddressSanitizer + UndefinedBehaviorSanitizer. Run scripts/setup.sh first (the README's
+# Builds and runs every test: first the Release build, then a Release build without
+# -march=native (exercises the paths taken on CPUs without AVX-512), then the same tests built
+# with AddressSanitizer + UndefinedBehaviorSanitizer. Run scripts/setup.sh first (the README's
 # test command does both). Exits non-zero if any build or test fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,6 +12,11 @@ echo "=== Release tests"
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build/release -j "$jobs"
 ctest --test-dir build/release --output-on-failure -j "$jobs" --timeout 1200
+
+echo "=== Portable build tests (no -march=native: the non-AVX-512 fallbacks of the learner)"
+cmake -S . -B build/portable -G Ninja -DCMAKE_BUILD_TYPE=Release -DCODESIGN_NATIVE=OFF
+cmake --build build/portable -j "$jobs"
+ctest --test-dir build/portable --output-on-failure -j "$jobs" --timeout 1200
 
 echo "=== AddressSanitizer + UBSan tests"
 cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCODESIGN_SANITIZE=ON
