@@ -8,15 +8,12 @@
 
 #include "rl/gemm.hpp"
 #include "rl/rng.hpp"
+#include "random_matrix.hpp"
 
 namespace codesign::rl {
 namespace {
 
-Eigen::MatrixXf random_matrix(Eigen::Index r, Eigen::Index c, Rng& rng) {
-  Eigen::MatrixXf m(r, c);
-  for (Eigen::Index i = 0; i < m.size(); ++i) m(i) = static_cast<float>(rng.normal());
-  return m;
-}
+using test::random_matrix;
 
 // W is m x k. Checks W * B1 (B1 k x n) and W^T * B2 (B2 m x n) through the packed operands of
 // pack_bf16_both, and both again through pack_bf16, against gemm_bf16.

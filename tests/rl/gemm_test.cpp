@@ -11,15 +11,12 @@
 
 #include "rl/mlp.hpp"
 #include "rl/rng.hpp"
+#include "random_matrix.hpp"
 
 namespace codesign::rl {
 namespace {
 
-Eigen::MatrixXf random_matrix(Eigen::Index r, Eigen::Index c, Rng& rng) {
-  Eigen::MatrixXf m(r, c);
-  for (Eigen::Index i = 0; i < m.size(); ++i) m(i) = static_cast<float>(rng.normal());
-  return m;
-}
+using test::random_matrix;
 
 // Float GEMM error bound (Higham, Thm 3.5 with the final rounding): every entry satisfies
 //   |fl(C) - C| <= gamma_{k+1} (|A| |B|),  gamma_n = n u / (1 - n u),  u = 2^-24,
