@@ -246,10 +246,7 @@ int run_bench(const BenchOptions& o) {
                          "this build/CPU does not have; allowed here: auto, float32\n");
     return 2;
   }
-  const rl::MatmulPrecision precision =
-      o.precision == "float32" ? rl::MatmulPrecision::Float32
-      : o.precision == "bf16"  ? rl::MatmulPrecision::BFloat16
-                               : io::default_matmul_precision();
+  const rl::MatmulPrecision precision = io::matmul_precision_from_name(o.precision);
 
   std::printf("PPO iteration benchmark (one thread, Eigen %d.%d.%d, SIMD: %s)\n",
               EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION,
@@ -285,24 +282,18 @@ int run_bench(const BenchOptions& o) {
               flops * 1e-9 / 0.8);
 
   const int base_reps = std::min(o.reps, 3);
-  if (precision == rl::MatmulPrecision::BFloat16) {
-    const Measured f32 = measure(cfg, o.n_envs, base_reps, rl::MatmulPrecision::Float32, true);
-    std::printf("\n  baseline, same iteration with float32 products (rl::sgemm), median of %d:\n",
-                base_reps);
-    std::printf("    iteration      %.3f s wall, %.3f s CPU -> %.1f GFLOP/s (CPU time)\n",
-                f32.wall, f32.cpu, flops * 1e-9 / f32.cpu);
-    std::printf("    bf16 products are %.2fx faster (CPU time; %.2fx wall)\n",
-                f32.cpu / main_run.cpu, f32.wall / med);
-  }
-  {
-    const Measured eig = measure(cfg, o.n_envs, base_reps, rl::MatmulPrecision::Float32, false);
-    std::printf("\n  baseline, same iteration with Eigen's float32 GEMM only, median of %d:\n",
-                base_reps);
-    std::printf("    iteration      %.3f s wall, %.3f s CPU -> %.1f GFLOP/s (CPU time)\n",
-                eig.wall, eig.cpu, flops * 1e-9 / eig.cpu);
-    std::printf("    the measured configuration is %.2fx faster (CPU time; %.2fx wall)\n",
-                eig.cpu / main_run.cpu, eig.wall / med);
-  }
+  // One baseline: the same iteration in float32 with or without the own GEMM kernel.
+  auto baseline = [&](bool fast_gemm, const char* what, const char* winner) {
+    const Measured b = measure(cfg, o.n_envs, base_reps, rl::MatmulPrecision::Float32, fast_gemm);
+    std::printf("\n  baseline, same iteration with %s, median of %d:\n", what, base_reps);
+    std::printf("    iteration      %.3f s wall, %.3f s CPU -> %.1f GFLOP/s (CPU time)\n", b.wall,
+                b.cpu, flops * 1e-9 / b.cpu);
+    std::printf("    %s %.2fx faster (CPU time; %.2fx wall)\n", winner, b.cpu / main_run.cpu,
+                b.wall / med);
+  };
+  if (precision == rl::MatmulPrecision::BFloat16)
+    baseline(true, "float32 products (rl::sgemm)", "bf16 products are");
+  baseline(false, "Eigen's float32 GEMM only", "the measured configuration is");
 
   if (o.with_kl) {
     cfg.target_kl = 0.02;

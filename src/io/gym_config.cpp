@@ -23,6 +23,12 @@ rl::MatmulPrecision default_matmul_precision() {
                                    : rl::MatmulPrecision::Float32;
 }
 
+rl::MatmulPrecision matmul_precision_from_name(std::string_view name) {
+  if (name == "float32") return rl::MatmulPrecision::Float32;
+  if (name == "bf16") return rl::MatmulPrecision::BFloat16;
+  return default_matmul_precision();
+}
+
 rl::PpoConfig read_ppo_config(TableReader& t, const rl::PpoConfig& d) {
   rl::PpoConfig c;
   c.learning_rate = t.number("learning_rate", d.learning_rate, 1e-9, 1.0);
@@ -65,9 +71,7 @@ rl::PpoConfig read_ppo_config(TableReader& t, const rl::PpoConfig& d) {
   if (precision == "bf16" && !rl::bf16_gemm_available())
     t.fail("matmul_precision", "value \"bf16\" needs AVX-512 BF16, which this build/CPU does "
                                "not have; allowed here: \"auto\", \"float32\"");
-  c.matmul_precision = precision == "float32" ? rl::MatmulPrecision::Float32
-                       : precision == "bf16"  ? rl::MatmulPrecision::BFloat16
-                                              : default_matmul_precision();
+  c.matmul_precision = matmul_precision_from_name(precision);
   return c;
 }
 

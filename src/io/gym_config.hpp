@@ -9,6 +9,7 @@
 // Every key is optional (defaults below), range-checked, and unknown keys or tables are errors.
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "io/toml_reader.hpp"
 #include "rl/ppo.hpp"
@@ -41,6 +42,9 @@ rl::PpoConfig read_ppo_config(TableReader& table, const rl::PpoConfig& defaults 
 
 // What "auto" resolves to on this build/CPU.
 rl::MatmulPrecision default_matmul_precision();
+// "float32" -> Float32, "bf16" -> BFloat16, "auto" -> default_matmul_precision(). Callers check
+// the name is one of these and that bf16 is available (their error messages differ).
+rl::MatmulPrecision matmul_precision_from_name(std::string_view name);
 
 // Reads a whole train-gym config (and finishes every table).
 GymTrainConfig read_gym_config(TableReader& root);
