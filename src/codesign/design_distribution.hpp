@@ -1,0 +1,122 @@
+#pragma once
+// The paper's hybrid design distribution q_φ (§IV-C, Eq. 5–9) and its update (Algorithm 2), as a
+// value type. A design d = (j, p): j is one of the discrete nominal structures, drawn from
+// q_disc = softmax(β(t) R̂) (Eq. 5); p ∈ (0, p_max)² are the chamber pressures, drawn as
+// p = p_max·sigmoid(z) with z ~ N(μ_j, Σ_j) in a latent space (Eq. 6; Σ_j = L_j L_jᵀ).
+// Three phases by the timestep t: Exploration (t < T1), Transition (T1 ≤ t < T2),
+// Exploitation (t ≥ T2, collapsed to d*). Semantics and every choice the paper leaves open:
+// docs/codesign.md, "Design distribution (Algorithm 2)".
+//
+//   DesignDistribution q(config, chambers);          // chambers[j] ∈ {1, 2}
+//   auto d = q.sample(t, rng);                        // one uniform + two normals, always
+//   q.update(samples, returns, t);                    // Algorithm 2, samples in order
+//   DesignDistribution resumed(config, chambers, q.state());  // exact restore
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "rl/rng.hpp"
+
+namespace codesign::coopt {
+
+enum class Phase { Exploration, Transition, Exploitation };
+const char* to_string(Phase phase);  // "exploration", "transition", "exploitation"
+
+struct DistributionConfig {
+  std::int64_t exploration_end = 220'000;     // T1 (paper)
+  std::int64_t exploitation_start = 800'000;  // T2 (ours: where the entropy decay ends)
+  double alpha = 0.1;             // step of Eq. 7–8 (paper)
+  double phi = 0.05;              // baseline tracking rate of Eq. 9 (paper)
+  double beta_start = 0.0;        // β ramps linearly from beta_start at T1 to beta_end at T2;
+  double beta_end = 0.5;          // β = 0 before T1 (paper), beta_end from T2 on (ours)
+  int reward_buffer = 100;        // per-design buffer of recent returns for the running stats (ours)
+  double pressure_max_kPa = 20.0; // p_i ∈ (0, p_max) (paper: [0, 20] kPa)
+  double latent_mu0 = 0.0;        // μ0 in latent space, both components (ours)
+  double latent_sigma0 = 1.0;     // Σ0 = σ0² I in latent space (ours)
+  double latent_sigma_min = 1e-3; // eigenvalue floor σ_min² of Σ after Eq. 8 (ours: keeps Σ PD)
+
+  // Throws std::invalid_argument naming the first bad field and its allowed range:
+  // 0 ≤ T1 < T2; alpha > 0; phi ∈ [0, 1]; beta_start, beta_end ≥ 0; reward_buffer ≥ 2;
+  // pressure_max_kPa > 0; latent_mu0 finite; 0 < latent_sigma_min ≤ latent_sigma0.
+  void validate() const;
+};
+
+struct DesignSample {
+  int design = 0;                                          // j
+  Eigen::Vector2d latent = Eigen::Vector2d::Zero();        // z (z2 carried even when n = 1)
+  Eigen::Vector2d pressures_kPa = Eigen::Vector2d::Zero(); // p = p_max·sigmoid(z), p2 = 0 if n = 1
+};
+
+// Every number that defines the distribution (public, for checkpoints).
+struct DistributionState {
+  Eigen::VectorXd score;                    // R̂ per design (init 0)
+  Eigen::VectorXd baseline;                 // b per design (init 0)
+  std::vector<Eigen::Vector2d> mu;          // latent mean per design (init μ0)
+  std::vector<Eigen::Matrix2d> sigma;       // latent covariance per design (init Σ0)
+  std::vector<std::vector<double>> buffer;  // last reward_buffer returns per design, oldest first
+  std::vector<std::int64_t> samples;        // how many returns each design has received
+  bool collapsed = false;                   // d* fixed (Exploitation)
+  int best_design = -1;                     // j* once collapsed, else -1
+  Eigen::Vector2d best_latent = Eigen::Vector2d::Zero();  // μ_{j*} at the collapse
+};
+
+class DesignDistribution {
+ public:
+  // chambers[j] = number of chambers (1 or 2) of design j; its size is the number of designs.
+  // Throws std::invalid_argument on a bad config or an empty / out-of-range chambers list.
+  DesignDistribution(const DistributionConfig& config, std::vector<int> chambers);
+  // Restore from a checkpointed state. Throws std::invalid_argument if the state does not fit
+  // (sizes, a buffer longer than reward_buffer, a non-finite number, Σ not symmetric positive
+  // definite, non-zero Σ12 for a 1-chamber design, best_design out of range when collapsed).
+  DesignDistribution(const DistributionConfig& config, std::vector<int> chambers,
+                     DistributionState state);
+
+  Phase phase(std::int64_t t) const;
+  double beta(std::int64_t t) const;
+  // q_disc = softmax(β(t) R̂) (Eq. 5; the max is subtracted before exp). In Exploitation this is
+  // still Eq. 5 at β = beta_end; sample() ignores it there and returns d*.
+  Eigen::VectorXd probabilities(std::int64_t t) const;
+  double entropy(std::int64_t t) const;  // of probabilities(t), in nats
+
+  // j ~ q_disc by inverse CDF on one rng.uniform(); ξ = (rng.normal(), rng.normal());
+  // z = μ_j + L_j ξ (L_j lower Cholesky factor of Σ_j); p = map(z).
+  // Collapsed or t ≥ T2: returns d* = (j*, z*, map(z*)) exactly, after drawing (and ignoring) the
+  // same three random values, so the RNG stream does not depend on the phase. If t ≥ T2 but
+  // collapse() has not run yet, d* is what collapse() would pick (argmax R̂, its μ).
+  DesignSample sample(std::int64_t t, rl::Rng& rng) const;
+
+  // Algorithm 2 for samples[i] with return returns[i], in order. If t ≥ T2 and not yet
+  // collapsed, collapse() runs first. Throws std::invalid_argument, leaving the state unchanged,
+  // on mismatched sizes, a design index out of range, a non-finite return or latent, or an
+  // Eq. 7–8 step that overflows to a non-finite μ or Σ.
+  void update(const std::vector<DesignSample>& samples, const std::vector<double>& returns,
+              std::int64_t t);
+
+  // Fixes d*: best_design = argmax R̂ (ties: lowest index), best_latent = μ_{best}. Idempotent.
+  void collapse();
+
+  // The latent-to-pressure map: p_i = p_max·sigmoid(z_i); p2 = 0 for a 1-chamber design.
+  Eigen::Vector2d pressures_kPa(const Eigen::Vector2d& latent, int design) const;
+  // map(μ_j): the median of p under q_cont(·|j) (the map is monotone), not its mean.
+  Eigen::Vector2d mean_pressures_kPa(int design) const;
+  // Delta-method std in kPa: p_max·s(μ_i)(1 − s(μ_i))·sqrt(Σ_ii), s = sigmoid; 0 for p2 if n = 1.
+  Eigen::Vector2d sigma_pressures_kPa(int design) const;
+
+  std::vector<int> ranking() const;  // designs by R̂ descending, ties by lower index
+  const DistributionState& state() const { return state_; }
+  const DistributionConfig& config() const { return config_; }
+  int design_count() const { return static_cast<int>(chambers_.size()); }
+  int chambers(int design) const;
+
+ private:
+  int argmax_score() const;
+  void check_design(int design) const;
+  void condition_sigma(int design);  // zero Σ12 if n = 1, symmetrise, eigenvalue floor
+
+  DistributionConfig config_;
+  std::vector<int> chambers_;
+  DistributionState state_;
+};
+
+}  // namespace codesign::coopt
