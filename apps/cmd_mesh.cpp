@@ -12,10 +12,10 @@
 #include <string>
 
 #include "commands.hpp"
+#include "base/errors.hpp"
 #include "fem/design.hpp"
 #include "fem/mesh_quality.hpp"
 #include "fem/whisker_mesh.hpp"
-#include "io/errors.hpp"
 #include "io/mesh_config.hpp"
 #include "io/msh.hpp"
 #include "io/toml_reader.hpp"
@@ -66,7 +66,7 @@ void write_output(const std::string& flag, const std::string& path, F&& write) {
   try {
     write();
   } catch (const std::runtime_error& e) {
-    throw io::InputError(flag + " " + path + ": cannot write the file (" + e.what() + ")");
+    throw InputError(flag + " " + path + ": cannot write the file (" + e.what() + ")");
   }
 }
 
@@ -123,10 +123,10 @@ void add_mesh_command(CLI::App& root, Runner& run) {
       const MeshCommand& c = *opt;
       if (c.all) {
         if (has_design || !c.out.empty() || !c.vtk.empty()) {
-          throw io::InputError("--all: cannot be combined with --design, -o or --vtk");
+          throw InputError("--all: cannot be combined with --design, -o or --vtk");
         }
       } else if (!has_design || c.design < 0 || c.design >= fem::kDesignCount) {
-        throw io::InputError("--design " + (has_design ? std::to_string(c.design) : std::string("missing")) +
+        throw InputError("--design " + (has_design ? std::to_string(c.design) : std::string("missing")) +
                              ": allowed range 0.." + std::to_string(fem::kDesignCount - 1) + " (or pass --all)");
       }
       const MeshSettings s = read_settings(c.config);

@@ -15,8 +15,8 @@
 #include <string>
 
 #include "commands.hpp"
+#include "base/errors.hpp"
 #include "io/csv_writer.hpp"
-#include "io/errors.hpp"
 #include "io/vtk.hpp"
 #include "sim_setup.hpp"
 
@@ -52,9 +52,9 @@ int run_sim(const SimOptions& opt) {
   const fs::path dir(opt.out);
   std::error_code ec;
   if (fs::exists(dir / "trace.csv", ec) && !opt.force)
-    throw io::InputError(dir.string() + ": already holds trace.csv of an earlier run; choose another -o or pass --force");
+    throw InputError(dir.string() + ": already holds trace.csv of an earlier run; choose another -o or pass --force");
   fs::create_directories(dir, ec);
-  if (ec) throw io::InputError(dir.string() + ": cannot create output directory: " + ec.message());
+  if (ec) throw InputError(dir.string() + ": cannot create output directory: " + ec.message());
 
   const auto t0 = std::chrono::steady_clock::now();
   const auto model = fem::build_whisker_model(sc.design, setup.spec);

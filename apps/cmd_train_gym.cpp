@@ -23,7 +23,7 @@
 #include <string>
 
 #include "commands.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/gym_config.hpp"
 #include "rl/pendulum.hpp"
 #include "rl/policy_file.hpp"
@@ -49,20 +49,20 @@ constexpr const char* kOutputs[] = {"config.toml", "metrics.csv", "eval.csv",
 void prepare_output_dir(const fs::path& dir, bool force) {
   std::error_code ec;
   if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-    throw io::InputError(dir.string() + ": output path exists and is not a directory");
+    throw InputError(dir.string() + ": output path exists and is not a directory");
   for (const char* name : kOutputs) {
     if (fs::exists(dir / name, ec) && !force)
-      throw io::InputError(dir.string() + ": already holds the results of an earlier run (" +
+      throw InputError(dir.string() + ": already holds the results of an earlier run (" +
                            name + "); choose another --out or pass --force to overwrite them");
   }
   if (force) fs::remove_all(dir / "checkpoints", ec);
   fs::create_directories(dir, ec);
-  if (ec) throw io::InputError(dir.string() + ": cannot create output directory: " + ec.message());
+  if (ec) throw InputError(dir.string() + ": cannot create output directory: " + ec.message());
 }
 
 std::ofstream open_output(const fs::path& path) {
   std::ofstream f(path, std::ios::trunc);
-  if (!f) throw io::InputError(path.string() + ": cannot write");
+  if (!f) throw InputError(path.string() + ": cannot write");
   return f;
 }
 
@@ -85,7 +85,7 @@ int run_train_gym(const TrainGymOptions& opt) {
   const auto t_start = std::chrono::steady_clock::now();
   io::GymTrainConfig cfg = io::load_gym_config(opt.config);
   if (opt.seed_option->count() > 0) {
-    if (opt.seed < 0) throw io::InputError("--seed: must be >= 0, got " + std::to_string(opt.seed));
+    if (opt.seed < 0) throw InputError("--seed: must be >= 0, got " + std::to_string(opt.seed));
     cfg.trainer.seed = static_cast<std::uint64_t>(opt.seed);
   }
   const fs::path out = opt.out.empty() ? fs::path(cfg.output_dir) : fs::path(opt.out);

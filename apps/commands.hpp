@@ -2,7 +2,8 @@
 // Sub-commands of the `codesign` binary. Each apps/cmd_*.cpp (or bench_*.cpp) adds its own
 // sub-command to the parent it is given and, when the user selects it, stores in `run` the
 // work to do. main.cpp parses the command line, then calls `run` and returns its exit code.
-// Errors in user input are thrown as io::InputError; main prints them and exits with 2.
+// Errors in user input are thrown as codesign::InputError (base/errors.hpp); main prints them
+// and exits with 2.
 #include <functional>
 
 #include <CLI/CLI.hpp>

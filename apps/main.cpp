@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace {
 
@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     return run();
-  } catch (const io::InputError& e) {
+  } catch (const InputError& e) {
     std::fprintf(stderr, "codesign: error: %s\n", e.what());
     return 2;
   } catch (const std::exception& e) {

@@ -1,6 +1,6 @@
 #include "sim_setup.hpp"
 
-#include "io/codesign_config.hpp"
+#include "codesign/config_reader.hpp"
 #include "io/gym_config.hpp"
 #include "io/mesh_config.hpp"
 
@@ -27,8 +27,8 @@ SimSetup read_sim_setup(const std::string& config_path) {
   }
   s.scenario = io::read_sim_scenario(root);
   // Tables of the other commands: validated here so that one run config serves them all.
-  if (root.has("task")) (void)io::read_task_config(root);
-  if (root.has("codesign")) (void)io::read_codesign_config(root);
+  if (root.has("task")) (void)coopt::read_task_config(root);
+  if (root.has("codesign")) (void)coopt::read_codesign_config(root);
   if (root.has("ppo")) {
     io::TableReader ppo = root.table("ppo");
     (void)io::read_ppo_config(ppo);

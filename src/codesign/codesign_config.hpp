@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string>
 
-namespace codesign::codesign {
+namespace codesign::coopt {
 
 enum class Baseline { None, NoFeedback, SingleDesign };
 
@@ -31,4 +31,4 @@ struct CodesignConfig {
   std::uint64_t seed = 1;
 };
 
-}  // namespace codesign::codesign
+}  // namespace codesign::coopt

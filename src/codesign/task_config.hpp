@@ -3,7 +3,7 @@
 // defaults. Where the paper is silent the choice is ours and is marked "(ours)".
 #include <numbers>
 
-namespace codesign::codesign {
+namespace codesign::coopt {
 
 struct TaskConfig {
   int episode_steps = 250;        // simulation steps per episode (paper)
@@ -21,4 +21,4 @@ struct TaskConfig {
 // where strain and morphology are removed from the state.
 enum class ObservationSet { Full, NoFeedback };
 
-}  // namespace codesign::codesign
+}  // namespace codesign::coopt

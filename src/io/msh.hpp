@@ -13,7 +13,7 @@
 #include <string>
 
 #include "fem/mesh.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace codesign::io {
 

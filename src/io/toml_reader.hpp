@@ -17,7 +17,7 @@
 #include <string_view>
 #include <vector>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace toml {
 inline namespace v3 {

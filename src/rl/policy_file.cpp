@@ -8,7 +8,7 @@
 #include <system_error>
 #include <vector>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace codesign::rl {
 
@@ -49,7 +49,7 @@ class Reader {
   template <class T>
   void get_array(T* out, std::size_t n, const char* what) {
     if (n > (end_ - pos_) / sizeof(T))
-      throw io::InputError("policy file " + file_ + ": truncated while reading " + what);
+      throw InputError("policy file " + file_ + ": truncated while reading " + what);
     std::memcpy(out, bytes_.data() + pos_, n * sizeof(T));
     pos_ += n * sizeof(T);
   }
@@ -72,13 +72,13 @@ void put_sizes(Writer& w, const std::vector<int>& sizes) {
 std::vector<int> get_hidden(Reader& r, const std::string& file, const char* which) {
   const auto n = r.get<std::uint32_t>("layer count");
   if (n > kMaxLayers)
-    throw io::InputError("policy file " + file + ": " + which + " has " + std::to_string(n) +
+    throw InputError("policy file " + file + ": " + which + " has " + std::to_string(n) +
                          " hidden layers (at most " + std::to_string(kMaxLayers) + " allowed)");
   std::vector<int> hidden;
   for (std::uint32_t i = 0; i < n; ++i) {
     const auto h = r.get<std::uint32_t>("layer size");
     if (h == 0 || h > kMaxDim)
-      throw io::InputError("policy file " + file + ": " + which + " layer size " +
+      throw InputError("policy file " + file + ": " + which + " layer size " +
                            std::to_string(h) + " out of range [1, " + std::to_string(kMaxDim) +
                            "]");
     hidden.push_back(static_cast<int>(h));
@@ -133,38 +133,38 @@ void save_policy(const std::filesystem::path& path, const ActorCritic& model,
               static_cast<std::streamsize>(w.bytes.size()));
     out.flush();
     if (!out)
-      throw io::InputError("policy file " + path.string() + ": cannot write " + tmp.string());
+      throw InputError("policy file " + path.string() + ": cannot write " + tmp.string());
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
   if (ec)
-    throw io::InputError("policy file " + path.string() + ": cannot rename " + tmp.string() +
+    throw InputError("policy file " + path.string() + ": cannot rename " + tmp.string() +
                          " into place: " + ec.message());
 }
 
 PolicyFileContents load_policy(const std::filesystem::path& path) {
   const std::string file = path.string();
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw io::InputError("policy file " + file + ": cannot open");
+  if (!in) throw InputError("policy file " + file + ": cannot open");
   const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
                                          std::istreambuf_iterator<char>());
   constexpr std::size_t kHeader = sizeof kMagic + sizeof(std::uint32_t);
   if (bytes.size() < kHeader + sizeof(std::uint64_t))
-    throw io::InputError("policy file " + file + ": too short (" + std::to_string(bytes.size()) +
+    throw InputError("policy file " + file + ": too short (" + std::to_string(bytes.size()) +
                          " bytes) to be a policy file");
   if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
-    throw io::InputError("policy file " + file + ": bad magic (not a codesign policy file)");
+    throw InputError("policy file " + file + ": bad magic (not a codesign policy file)");
   std::uint32_t version;
   std::memcpy(&version, bytes.data() + sizeof kMagic, sizeof version);
   if (version != kPolicyFileVersion)
-    throw io::InputError("policy file " + file + ": unsupported version " +
+    throw InputError("policy file " + file + ": unsupported version " +
                          std::to_string(version) + " (this build reads version " +
                          std::to_string(kPolicyFileVersion) + ")");
   const std::size_t body_end = bytes.size() - sizeof(std::uint64_t);
   std::uint64_t stored;
   std::memcpy(&stored, bytes.data() + body_end, sizeof stored);
   if (stored != fnv1a64(std::span(bytes.data(), body_end)))
-    throw io::InputError("policy file " + file +
+    throw InputError("policy file " + file +
                          ": checksum mismatch (file is corrupt or truncated)");
 
   Reader r(bytes, body_end, file);
@@ -174,7 +174,7 @@ PolicyFileContents load_policy(const std::filesystem::path& path) {
   const auto obs_dim = r.get<std::uint32_t>("obs_dim");
   const auto act_dim = r.get<std::uint32_t>("act_dim");
   if (obs_dim == 0 || obs_dim > kMaxDim || act_dim == 0 || act_dim > kMaxDim)
-    throw io::InputError("policy file " + file + ": obs_dim " + std::to_string(obs_dim) +
+    throw InputError("policy file " + file + ": obs_dim " + std::to_string(obs_dim) +
                          " / act_dim " + std::to_string(act_dim) + " out of range [1, " +
                          std::to_string(kMaxDim) + "]");
   const auto actor_hidden = get_hidden(r, file, "actor");
@@ -189,7 +189,7 @@ PolicyFileContents load_policy(const std::filesystem::path& path) {
   r.get_array(c.model.log_std().data(), act_dim, "log_std");
   const auto has_norm = r.get<std::uint32_t>("normalisation flag");
   if (has_norm > 1)
-    throw io::InputError("policy file " + file + ": normalisation flag " +
+    throw InputError("policy file " + file + ": normalisation flag " +
                          std::to_string(has_norm) + " is not 0 or 1");
   if (has_norm == 1) {
     ObsNormalization n;
@@ -202,7 +202,7 @@ PolicyFileContents load_policy(const std::filesystem::path& path) {
     c.obs_norm = std::move(n);
   }
   if (r.pos() != r.end())
-    throw io::InputError("policy file " + file + ": " + std::to_string(r.end() - r.pos()) +
+    throw InputError("policy file " + file + ": " + std::to_string(r.end() - r.pos()) +
                          " unexpected bytes after the last field");
   return c;
 }

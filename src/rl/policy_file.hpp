@@ -15,7 +15,7 @@
 //   checksum  u64      FNV-1a 64 of every byte before it
 // Writes go to "<path>.tmp" then rename() (atomic on POSIX: a reader never sees half a file).
 // Any defect on load (missing file, bad magic, unknown version, truncation, trailing bytes,
-// checksum mismatch, absurd sizes) throws io::InputError naming the file and the defect.
+// checksum mismatch, absurd sizes) throws codesign::InputError naming the file and the defect.
 #include <cstdint>
 #include <filesystem>
 #include <optional>

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/gym_config.hpp"
 #include "rl/gemm.hpp"
 

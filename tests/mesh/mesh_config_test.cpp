@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/mesh_config.hpp"
 #include "io/toml_reader.hpp"
 
@@ -18,7 +18,7 @@ std::string error_of(const std::string& toml) {
     io::TableReader fibres = root.table("fibres");
     io::read_fibre_layout(fibres);
     fibres.finish();
-  } catch (const io::InputError& e) {
+  } catch (const InputError& e) {
     return e.what();
   }
   return "";

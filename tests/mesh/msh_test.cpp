@@ -8,11 +8,11 @@
 
 #include <gmsh.h>
 
+#include "base/errors.hpp"
 #include "fem/design.hpp"
 #include "fem/mesh_ops.hpp"
 #include "fem/mesh_quality.hpp"
 #include "fem/whisker_mesh.hpp"
-#include "io/errors.hpp"
 #include "io/msh.hpp"
 #include "test_util.hpp"
 
@@ -30,7 +30,7 @@ TetMesh read_text(const std::string& text, const std::string& label = "t.msh") {
 std::string read_error(const std::string& text) {
   try {
     read_text(text, "bad.msh");
-  } catch (const io::InputError& e) {
+  } catch (const InputError& e) {
     return e.what();
   }
   return "";
@@ -188,7 +188,7 @@ TEST(Msh, MalformedFilesNameFileAndLine) {
   EXPECT_EQ(read_error("hello\n"), "bad.msh:1: expected a section header such as $Nodes, got 'hello'");
   EXPECT_EQ(read_error(""), "bad.msh:1: expected $MeshFormat section, got none");
   // Missing file.
-  EXPECT_THROW(io::read_msh_file("/nonexistent/none.msh"), io::InputError);
+  EXPECT_THROW(io::read_msh_file("/nonexistent/none.msh"), InputError);
 }
 
 TEST(Msh, TaggedFaceThatIsNotOnTheBoundaryIsRejected) {

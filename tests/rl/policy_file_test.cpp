@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace codesign::rl {
 namespace {
@@ -43,8 +43,8 @@ class PolicyFile : public ::testing::Test {
   void expect_load_error(const std::string& fragment) const {
     try {
       load_policy(path_);
-      ADD_FAILURE() << "expected io::InputError containing '" << fragment << "'";
-    } catch (const io::InputError& e) {
+      ADD_FAILURE() << "expected InputError containing '" << fragment << "'";
+    } catch (const InputError& e) {
       const std::string msg = e.what();
       EXPECT_NE(msg.find(path_.string()), std::string::npos) << msg;
       EXPECT_NE(msg.find(fragment), std::string::npos) << msg;

@@ -5,11 +5,11 @@
 #include <stdexcept>
 #include <string>
 
-namespace codesign::io {
+namespace codesign {
 
 class InputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
 
-}  // namespace codesign::io
+}  // namespace codesign

@@ -1,14 +1,14 @@
 // [task] and [codesign] tables: cross-key constraints and baseline switches.
 #include <gtest/gtest.h>
 
-#include "io/codesign_config.hpp"
+#include "codesign/config_reader.hpp"
 
-namespace codesign::io {
+namespace codesign::coopt {
 namespace {
 
 std::string error_of(const std::string& text, bool task) {
   try {
-    TableReader r = TableReader::from_string(text, "run.toml");
+    io::TableReader r = io::TableReader::from_string(text, "run.toml");
     if (task) {
       read_task_config(r);
     } else {
@@ -20,30 +20,30 @@ std::string error_of(const std::string& text, bool task) {
   return "";
 }
 
-TEST(CodesignConfig, HoldMustDivideEpisode) {
+TEST(ConfigReader, HoldMustDivideEpisode) {
   EXPECT_EQ(error_of("[task]\nepisode_steps = 250\naction_hold_steps = 7\n", true),
             "run.toml: task.action_hold_steps: must divide task.episode_steps (250)");
   EXPECT_EQ(error_of("[task]\nepisode_steps = 250\naction_hold_steps = 5\n", true), "");
 }
 
-TEST(CodesignConfig, PhasesMustBeOrdered) {
+TEST(ConfigReader, PhasesMustBeOrdered) {
   // T2 may not come before T1: the allowed range of exploitation_start starts at T1.
   EXPECT_EQ(error_of("[codesign]\nexploration_end = 300000\nexploitation_start = 200000\n", false),
             "run.toml: codesign.exploitation_start: value 200000 is out of range; allowed "
             "[300000, 1000000]");
 }
 
-TEST(CodesignConfig, BaselineSwitch) {
-  TableReader r = TableReader::from_string("[codesign]\nbaseline = \"no_feedback\"\n", "run.toml");
-  EXPECT_EQ(read_codesign_config(r).baseline, codesign::Baseline::NoFeedback);
+TEST(ConfigReader, BaselineSwitch) {
+  io::TableReader r = io::TableReader::from_string("[codesign]\nbaseline = \"no_feedback\"\n", "run.toml");
+  EXPECT_EQ(read_codesign_config(r).baseline, Baseline::NoFeedback);
   EXPECT_NE(error_of("[codesign]\nbaseline = \"random\"\n", false).find("allowed: \"none\""),
             std::string::npos);
 }
 
-TEST(CodesignConfig, SingleDesignIndexRange) {
+TEST(ConfigReader, SingleDesignIndexRange) {
   EXPECT_EQ(error_of("[codesign]\nsingle_design_index = 110\n", false),
             "run.toml: codesign.single_design_index: value 110 is out of range; allowed [0, 109]");
 }
 
 }  // namespace
-}  // namespace codesign::io
+}  // namespace codesign::coopt

@@ -1,12 +1,12 @@
-#include "io/codesign_config.hpp"
+#include "codesign/config_reader.hpp"
 
 #include <numbers>
 
-namespace codesign::io {
+namespace codesign::coopt {
 
-codesign::TaskConfig read_task_config(TableReader& root) {
-  TableReader t = root.table("task");
-  codesign::TaskConfig c;
+TaskConfig read_task_config(io::TableReader& root) {
+  io::TableReader t = root.table("task");
+  TaskConfig c;
   c.episode_steps = static_cast<int>(t.integer("episode_steps", c.episode_steps, 1, 100000));
   c.action_hold_steps =
       static_cast<int>(t.integer("action_hold_steps", c.action_hold_steps, 1, c.episode_steps));
@@ -25,9 +25,9 @@ codesign::TaskConfig read_task_config(TableReader& root) {
   return c;
 }
 
-codesign::CodesignConfig read_codesign_config(TableReader& root) {
-  TableReader t = root.table("codesign");
-  codesign::CodesignConfig c;
+CodesignConfig read_codesign_config(io::TableReader& root) {
+  io::TableReader t = root.table("codesign");
+  CodesignConfig c;
   c.total_timesteps = t.integer("total_timesteps", c.total_timesteps, 1, 1'000'000'000);
   c.designs_per_update = static_cast<int>(t.integer("designs_per_update", c.designs_per_update, 1, 1024));
   c.design_batch = static_cast<int>(t.integer("design_batch", c.design_batch, 1, 1024));
@@ -43,9 +43,9 @@ codesign::CodesignConfig read_codesign_config(TableReader& root) {
   c.latent_mu0 = t.number("latent_mu0", c.latent_mu0, -10.0, 10.0);
   c.latent_sigma0 = t.number("latent_sigma0", c.latent_sigma0, 1e-6, 10.0);
   const std::string b = t.string("baseline", "none", {"none", "no_feedback", "single_design"});
-  c.baseline = b == "no_feedback"     ? codesign::Baseline::NoFeedback
-               : b == "single_design" ? codesign::Baseline::SingleDesign
-                                      : codesign::Baseline::None;
+  c.baseline = b == "no_feedback"     ? Baseline::NoFeedback
+               : b == "single_design" ? Baseline::SingleDesign
+                                      : Baseline::None;
   c.single_design_index =
       static_cast<int>(t.integer("single_design_index", c.single_design_index, 0, 109));
   c.single_design_p1_kPa = t.number("single_design_p1_kPa", c.single_design_p1_kPa, 0.0, c.pressure_max_kPa);
@@ -57,4 +57,4 @@ codesign::CodesignConfig read_codesign_config(TableReader& root) {
   return c;
 }
 
-}  // namespace codesign::io
+}  // namespace codesign::coopt

@@ -1,0 +1,12 @@
+#pragma once
+// Reads the [task] and [codesign] tables of a run config into the co-design value types.
+#include "codesign/codesign_config.hpp"
+#include "codesign/task_config.hpp"
+#include "io/toml_reader.hpp"
+
+namespace codesign::coopt {
+
+TaskConfig read_task_config(io::TableReader& root);
+CodesignConfig read_codesign_config(io::TableReader& root);
+
+}  // namespace codesign::coopt
