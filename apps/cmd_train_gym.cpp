@@ -2,7 +2,9 @@
 //
 // Trains PPO on a classic-control task (Pendulum-v1), printing a progress line every
 // log_every_iterations rollouts, then evaluates the deterministic policy (mean action) on
-// eval_episodes episodes whose seeds are disjoint from the training environments'.
+// eval_episodes episodes whose seeds are disjoint from every training environment's and from
+// the evaluation seeds of every other training seed (rl::eval_seed_first, src/rl/trainer.hpp):
+// episode k of training seed s is reset with 2^63 + s * 2^20 + k.
 //
 // Output directory (--out, else [train] output_dir):
 //   config.toml        copy of the config file given
@@ -88,6 +90,11 @@ int run_train_gym(const TrainGymOptions& opt) {
     if (opt.seed < 0) throw InputError("--seed: must be >= 0, got " + std::to_string(opt.seed));
     cfg.trainer.seed = static_cast<std::uint64_t>(opt.seed);
   }
+  if (cfg.trainer.seed > rl::kMaxEvalTrainSeed)
+    throw InputError("seed (--seed or [env] seed): value " + std::to_string(cfg.trainer.seed) +
+                     " is out of range for train-gym; allowed [0, " +
+                     std::to_string(rl::kMaxEvalTrainSeed) +
+                     "] (2^43 - 1, the largest seed with disjoint evaluation seeds)");
   const fs::path out = opt.out.empty() ? fs::path(cfg.output_dir) : fs::path(opt.out);
   prepare_output_dir(out, opt.force);
   fs::copy_file(opt.config, out / "config.toml", fs::copy_options::overwrite_existing);
@@ -152,7 +159,7 @@ int run_train_gym(const TrainGymOptions& opt) {
   const double train_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
 
-  const std::uint64_t eval_seed = tc.seed + rl::kEvalSeedOffset;
+  const std::uint64_t eval_seed = rl::eval_seed_first(tc.seed, cfg.eval_episodes);
   rl::EvalResult eval = rl::evaluate(trainer.model(), factory, cfg.eval_episodes, eval_seed);
   if (cfg.save_policy) {
     const fs::path policy_path = out / "policy.cdspol";
@@ -183,18 +190,24 @@ int run_train_gym(const TrainGymOptions& opt) {
   char text[1024];
   std::snprintf(text, sizeof text,
                 "env = %s\nseed = %llu\ntimesteps = %lld\nepisodes = %lld\n"
-                "eval_episodes = %d\neval_seed_first = %llu\neval_mean_return = %.3f\n"
+                "eval_episodes = %d\neval_seed_first = %llu\neval_seed_last = %llu\n"
+                "eval_mean_return = %.3f\n"
                 "eval_std_return = %.3f\ntrain_wall_s = %.3f\nwall_s = %.3f\n",
                 cfg.env_name.c_str(), static_cast<unsigned long long>(tc.seed),
                 static_cast<long long>(trainer.num_timesteps()),
                 static_cast<long long>(trainer.num_episodes()), cfg.eval_episodes,
-                static_cast<unsigned long long>(eval_seed), eval.mean_return, eval.std_return,
+                static_cast<unsigned long long>(eval_seed),
+                static_cast<unsigned long long>(eval_seed + eval.returns.size() - 1),
+                eval.mean_return, eval.std_return,
                 train_s, wall_s);
   summary << text;
-  std::printf("final eval (deterministic, %d episodes): mean return %.1f, std %.1f\n"
+  std::printf("final eval: mean return %.1f ± %.1f (population std) over %d deterministic "
+              "episodes, seeds %llu..%llu\n"
               "wall time %.1f s (training %.1f s); results in %s\n",
-              cfg.eval_episodes, eval.mean_return, eval.std_return, wall_s, train_s,
-              out.string().c_str());
+              eval.mean_return, eval.std_return, cfg.eval_episodes,
+              static_cast<unsigned long long>(eval_seed),
+              static_cast<unsigned long long>(eval_seed + eval.returns.size() - 1), wall_s,
+              train_s, out.string().c_str());
   return 0;
 }
 

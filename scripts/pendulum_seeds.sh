@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Acceptance benchmark of the PPO learner (issue 3): trains Pendulum-v1 with
 # configs/pendulum.toml for seeds 0..4, one after the other (each run is single-threaded),
-# and prints the deterministic evaluation return (mean of 20 episodes) and the wall time per seed.
-# Exits 0 only if at least 4 of the 5 seeds reach a mean return >= -250.
+# and prints, as a Markdown table ready to paste, the deterministic evaluation return of each seed
+# (mean ± population std over eval_episodes episodes, 100 in configs/pendulum.toml, seeds disjoint
+# from every training seed and from the other seeds' evaluations: 2^63 + seed * 2^20 + k) and its
+# wall time. Exits 0 only if at least 4 of the 5 seeds reach a mean return >= -250.
 #
 #   scripts/pendulum_seeds.sh [path/to/codesign] [output dir]
 # Defaults: build/release/codesign (or $CODESIGN_BIN), runs/pendulum_seeds/<UTC timestamp> (a fresh
@@ -27,7 +29,11 @@ value() {  # value <summary.txt> <key>
   sed -n "s/^$2 = //p" "$1"
 }
 
-printf '%-6s %14s %12s %12s  %s\n' seed eval_mean eval_std wall_s result
+precision="$(sed -n 's/^ *matmul_precision *= *"\([a-z0-9]*\)".*/\1/p' "$config")"
+echo "config: $config (matmul_precision = ${precision:-auto}); binary: $bin"
+echo
+echo "| seed | eval mean return ± std | episodes | wall time | ≥ $threshold |"
+echo "|---:|---:|---:|---:|:---:|"
 passed=0
 total_wall=0
 for seed in 0 1 2 3 4; do
@@ -38,6 +44,7 @@ for seed in 0 1 2 3 4; do
   }
   mean="$(value "$dir/summary.txt" eval_mean_return)"
   std="$(value "$dir/summary.txt" eval_std_return)"
+  episodes="$(value "$dir/summary.txt" eval_episodes)"
   wall="$(value "$dir/summary.txt" wall_s)"
   if awk -v m="$mean" -v t="$threshold" 'BEGIN { exit !(m >= t) }'; then
     result=pass
@@ -46,8 +53,11 @@ for seed in 0 1 2 3 4; do
     result=FAIL
   fi
   total_wall="$(awk -v a="$total_wall" -v b="$wall" 'BEGIN { printf "%.3f", a + b }')"
-  printf '%-6s %14s %12s %12s  %s\n' "$seed" "$mean" "$std" "$wall" "$result"
+  # Unicode minus as in the docs' tables.
+  cell="$(awk -v m="$mean" -v s="$std" 'BEGIN { printf "%.1f ± %.1f", m, s }' | sed 's/^-/−/')"
+  printf '| %s | %s | %s | %.2f s | %s |\n' "$seed" "$cell" "$episodes" "$wall" "$result"
 done
-echo "$passed of 5 seeds reach a deterministic evaluation return >= $threshold" \
+echo
+echo "$passed of 5 seeds reach a deterministic evaluation mean return >= $threshold" \
      "(need $needed); total wall time ${total_wall} s; results in $out"
 [[ $passed -ge $needed ]]

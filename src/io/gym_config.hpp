@@ -22,7 +22,7 @@ struct GymTrainConfig {
   int max_episode_steps = 200;  // the Gymnasium time limit of Pendulum-v1
   // PPO, n_envs (default 4), n_threads, seed, total_timesteps, stats_window.
   rl::TrainerConfig trainer;
-  int eval_episodes = 20;
+  int eval_episodes = 100;  // the reader allows [1, 100000], within rl::kEvalSeedStride = 2^20
   int log_every_iterations = 1;
   int checkpoint_every_iterations = 0;  // 0: only the final policy is saved
   bool save_policy = true;

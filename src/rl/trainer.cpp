@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 
 namespace codesign::rl {
 
@@ -148,6 +149,18 @@ std::optional<double> Trainer::mean_recent_return() const {
   double sum = 0.0;
   for (const EpisodeRecord& e : recent_) sum += e.episode_return;
   return sum / static_cast<double>(recent_.size());
+}
+
+std::uint64_t eval_seed_first(std::uint64_t train_seed, int episodes) {
+  if (train_seed > kMaxEvalTrainSeed)
+    throw std::invalid_argument("eval_seed_first: training seed " + std::to_string(train_seed) +
+                                " is above " + std::to_string(kMaxEvalTrainSeed) +
+                                " (2^43 - 1), the largest with disjoint evaluation seeds");
+  if (episodes < 1 || static_cast<std::uint64_t>(episodes) > kEvalSeedStride)
+    throw std::invalid_argument("eval_seed_first: episodes " + std::to_string(episodes) +
+                                " is out of range; allowed [1, 2^20 = " +
+                                std::to_string(kEvalSeedStride) + "]");
+  return kEvalSeedOffset + train_seed * kEvalSeedStride;
 }
 
 EvalResult evaluate(const DeterministicPolicy& policy, const EnvFactory& factory, int episodes,

@@ -19,7 +19,7 @@
 //
 // Random streams (all from TrainerConfig::seed, none shared with the environments):
 //   Rng(seed).split() x3 -> model init, action sampling, minibatch shuffling.
-//   Environment i is seeded with seed + i (VecEnv).
+//   Environment i is seeded with seed + i (VecEnv); evaluation seeds: eval_seed_first() below.
 // Results depend only on the seed, not on n_threads.
 #include <chrono>
 #include <cstddef>
@@ -130,9 +130,30 @@ struct EvalResult {
   double std_return = 0.0;  // population std (numpy's np.std, as SB3's evaluate_policy)
 };
 
-// Offset added to the training seed to seed evaluation episodes, so evaluation never replays a
-// training environment's start states (those use seed + 0 .. seed + n_envs - 1).
-inline constexpr std::uint64_t kEvalSeedOffset = 1'000'000'007ULL;
+// Evaluation seeds, disjoint by construction. Training seed s (its environments are reset with
+// s + i, 0 <= i < n_envs) evaluates episode k with
+//
+//   eval_seed(s, k) = kEvalSeedOffset + s * kEvalSeedStride + k
+//                   = 2^63 + s * 2^20 + k,      0 <= s <= kMaxEvalTrainSeed = 2^43 - 1,
+//                                               0 <= k < episodes <= kEvalSeedStride = 2^20.
+// eval_seed_first(s, episodes) returns eval_seed(s, 0); evaluate(..., episodes, that) then resets
+// episode k with eval_seed(s, k). Proof that no seed is used twice:
+//   (a) s * 2^20 + k <= (2^43 - 1) * 2^20 + 2^20 - 1 = 2^63 - 1, so eval_seed(s, k) lies in
+//       [2^63, 2^64 - 1]: no uint64 wrap-around, and bit 63 is set.
+//   (b) Every training environment seed s' + i (s' <= 2^43 - 1, i < n_envs < 2^62) is < 2^63:
+//       bit 63 is clear. So no evaluation seed of any run equals a training seed of any run.
+//   (c) eval_seed(s, k) - 2^63 = s * 2^20 + k with 0 <= k < 2^20 is the division of that number
+//       by 2^20 with quotient s and remainder k, which is unique: different (s, k) give different
+//       seeds, so the evaluations of two training seeds never share an episode seed.
+// (Seeds do not collide; distinct seeds of one environment RNG give distinct start states up to
+// the resolution of the draw, tests/rl/eval_seeds_test.cpp checks Pendulum's.)
+inline constexpr std::uint64_t kEvalSeedOffset = 1ULL << 63;
+inline constexpr std::uint64_t kEvalSeedStride = 1ULL << 20;  // max episodes per evaluation
+inline constexpr std::uint64_t kMaxEvalTrainSeed = (1ULL << 43) - 1;
+
+// eval_seed(train_seed, 0) of the scheme above. Throws std::invalid_argument if train_seed >
+// kMaxEvalTrainSeed or episodes is not in [1, kEvalSeedStride].
+std::uint64_t eval_seed_first(std::uint64_t train_seed, int episodes);
 
 using DeterministicPolicy = std::function<Eigen::VectorXd(const Eigen::VectorXd& obs)>;
 

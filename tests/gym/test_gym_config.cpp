@@ -43,7 +43,7 @@ TEST(GymConfig, ShippedPendulumConfigHasTheIssueSettings) {
   EXPECT_EQ(c.trainer.ppo.critic_hidden, (std::vector<int>{64, 64}));
   EXPECT_FALSE(c.trainer.ppo.target_kl.has_value());
   EXPECT_EQ(c.trainer.total_timesteps, 100'000);
-  EXPECT_EQ(c.eval_episodes, 20);
+  EXPECT_EQ(c.eval_episodes, 100);
   EXPECT_EQ(c.max_episode_steps, 200);
 }
 
