@@ -1,5 +1,6 @@
 #pragma once
-// Helpers shared by the mesh tests: a scratch directory per test process.
+// Mesh-test helpers (used by tests/fem, tests/io and tests/apps, which sit above fem): a
+// scratch directory per test process, and the area bounds of a meshed disc.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>

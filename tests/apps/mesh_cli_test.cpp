@@ -4,7 +4,7 @@
 
 #include "fem/mesh_quality.hpp"
 #include "io/msh.hpp"
-#include "../mesh/test_util.hpp"
+#include "../fem/test_util.hpp"
 #include "run_binary.hpp"
 
 using namespace codesign;
@@ -13,7 +13,7 @@ namespace {
 
 using Result = test::RunResult;
 
-// CMake builds the `codesign` binary before test_cli, so a missing binary is a failure.
+// CMake builds the `codesign` binary before test_apps, so a missing binary is a failure.
 #define REQUIRE_BINARY() ASSERT_TRUE(std::filesystem::exists(CODESIGN_BINARY)) << CODESIGN_BINARY
 
 }  // namespace
