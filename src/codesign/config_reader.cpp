@@ -2,6 +2,8 @@
 
 #include <numbers>
 
+#include "fem/design.hpp"
+
 namespace codesign::coopt {
 
 TaskConfig read_task_config(io::TableReader& root) {
@@ -20,7 +22,6 @@ TaskConfig read_task_config(io::TableReader& root) {
   c.kappa = t.number("kappa", c.kappa, 0.1, 10.0);
   c.smooth_penalty = t.number("smooth_penalty", c.smooth_penalty, 0.0, 10.0);
   c.flip_penalty = t.number("flip_penalty", c.flip_penalty, 0.0, 10.0);
-  c.theta_limit_rad = t.number("theta_limit_rad", c.theta_limit_rad, 1e-3, std::numbers::pi);
   t.finish();
   return c;
 }
@@ -47,7 +48,7 @@ CodesignConfig read_codesign_config(io::TableReader& root) {
                : b == "single_design" ? Baseline::SingleDesign
                                       : Baseline::None;
   c.single_design_index =
-      static_cast<int>(t.integer("single_design_index", c.single_design_index, 0, 109));
+      static_cast<int>(t.integer("single_design_index", c.single_design_index, 0, fem::kDesignCount - 1));
   c.single_design_p1_kPa = t.number("single_design_p1_kPa", c.single_design_p1_kPa, 0.0, c.pressure_max_kPa);
   c.single_design_p2_kPa = t.number("single_design_p2_kPa", c.single_design_p2_kPa, 0.0, c.pressure_max_kPa);
   c.eval_decisions = static_cast<int>(t.integer("eval_decisions", c.eval_decisions, 1, 100000));

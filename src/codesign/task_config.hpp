@@ -14,7 +14,8 @@ struct TaskConfig {
   double kappa = 1.5;             // raised-cosine exponent (paper)
   double smooth_penalty = 0.05;   // r_smooth = c·|Δθ|/θ_max (spec)
   double flip_penalty = 0.1;      // r_flip when sign(Δθ) flips (spec)
-  double theta_limit_rad = std::numbers::pi / 3.0;  // |θ| beyond this ends the episode (ours)
+  // The episode ends early when fem::Sensors::theta_extreme is set, i.e. |θ| beyond the scene's
+  // fem::SceneConfig::theta_limit_deg ([scene] theta_limit_deg): one limit, stated there.
 };
 
 // Which observation the policy sees: the paper's main framework, or its no-feedback baseline

@@ -2,6 +2,8 @@
 
 #include <numbers>
 
+#include "fem/design.hpp"
+
 namespace codesign::io {
 
 fem::Material read_material(TableReader& root) {
@@ -21,14 +23,16 @@ SceneSettings read_scene(TableReader& root) {
   TableReader t = root.table("scene");
   SceneSettings s;
   fem::SceneConfig& c = s.scene;
-  c.inclination_deg = t.number("inclination_deg", c.inclination_deg, 0.0, 80.0);
-  c.preload_mm = t.number("preload_mm", c.preload_mm, 0.0, 30.0);
-  c.plate_amplitude_mm = t.number("plate_amplitude_mm", c.plate_amplitude_mm, 0.0, 20.0);
-  c.plate_frequency_Hz = t.number("plate_frequency_Hz", c.plate_frequency_Hz, 0.0, 20.0);
-  c.plate_phase_rad = t.number("plate_phase_deg", c.plate_phase_rad * 180.0 / std::numbers::pi, -360.0, 360.0) *
+  namespace range = fem::scene_range;
+  c.inclination_deg = t.number("inclination_deg", c.inclination_deg, range::inclination_deg);
+  c.preload_mm = t.number("preload_mm", c.preload_mm, range::preload_mm);
+  c.plate_amplitude_mm = t.number("plate_amplitude_mm", c.plate_amplitude_mm, range::plate_amplitude_mm);
+  c.plate_frequency_Hz = t.number("plate_frequency_Hz", c.plate_frequency_Hz, range::plate_frequency_Hz);
+  c.plate_phase_rad = t.number("plate_phase_deg", c.plate_phase_rad * 180.0 / std::numbers::pi,
+                               range::plate_phase_deg) *
                       std::numbers::pi / 180.0;
-  c.theta_limit_deg = t.number("theta_limit_deg", c.theta_limit_deg, 0.1, 90.0);
-  c.settle_steps = static_cast<int>(t.integer("settle_steps", c.settle_steps, 1, 1000));
+  c.theta_limit_deg = t.number("theta_limit_deg", c.theta_limit_deg, range::theta_limit_deg);
+  c.settle_steps = static_cast<int>(t.integer("settle_steps", c.settle_steps, range::settle_steps));
   s.tip_region_mm = t.number("tip_region_mm", s.tip_region_mm, 0.1, 50.0);
   t.finish();
   return s;
@@ -37,16 +41,19 @@ SceneSettings read_scene(TableReader& root) {
 fem::SolverConfig read_solver(TableReader& root) {
   TableReader t = root.table("solver");
   fem::SolverConfig c;
+  namespace range = fem::solver_range;
   const std::string method = t.string("method", "fast", {"fast", "exact"});
   c.method = method == "exact" ? fem::StepMethod::Exact : fem::StepMethod::Fast;
-  c.dt_s = t.number("dt_s", c.dt_s, 1e-5, 0.1);
-  c.static_dt_s = t.number("static_dt_s", c.static_dt_s, 1e-3, 100.0);
-  c.fast_tolerance = t.number("fast_tolerance", c.fast_tolerance, 1e-12, 0.1);
-  c.fast_max_iterations = static_cast<int>(t.integer("fast_max_iterations", c.fast_max_iterations, 1, 1000));
+  c.dt_s = t.number("dt_s", c.dt_s, range::dt_s);
+  c.static_dt_s = t.number("static_dt_s", c.static_dt_s, range::static_dt_s);
+  c.fast_tolerance = t.number("fast_tolerance", c.fast_tolerance, range::fast_tolerance);
+  c.fast_max_iterations = static_cast<int>(
+      t.integer("fast_max_iterations", c.fast_max_iterations, range::fast_max_iterations));
   c.fast_refactor_iterations =
-      static_cast<int>(t.integer("fast_refactor_iterations", c.fast_refactor_iterations, 1, 1000));
-  c.contact_tolerance_mm = t.number("contact_tolerance_mm", c.contact_tolerance_mm, 1e-9, 0.1);
-  c.contact_margin_mm = t.number("contact_margin_mm", c.contact_margin_mm, 0.0, 10.0);
+      static_cast<int>(t.integer("fast_refactor_iterations", c.fast_refactor_iterations,
+                                        range::fast_refactor_iterations));
+  c.contact_tolerance_mm = t.number("contact_tolerance_mm", c.contact_tolerance_mm, range::contact_tolerance_mm);
+  c.contact_margin_mm = t.number("contact_margin_mm", c.contact_margin_mm, range::contact_margin_mm);
   t.finish();
   return c;
 }
@@ -61,7 +68,7 @@ FibreStiffness read_fibre_stiffness(TableReader& fibres) {
 SimScenario read_sim_scenario(TableReader& root) {
   TableReader t = root.table("sim");
   SimScenario s;
-  s.design = static_cast<int>(t.integer("design", s.design, 0, 109));
+  s.design = static_cast<int>(t.integer("design", s.design, 0, fem::kDesignCount - 1));
   s.pressures_kPa = t.numbers("pressures_kPa", s.pressures_kPa, 0.0, 20.0, 1, 2);
   if (s.pressures_kPa.size() == 1) s.pressures_kPa.push_back(0.0);
   s.theta_deg = t.numbers("theta_deg", s.theta_deg, -90.0, 90.0, 1, 100000);

@@ -9,11 +9,15 @@ namespace {
 
 constexpr std::int64_t kMaxSteps = 1'000'000'000'000;  // 1e12 timesteps
 
-std::vector<int> to_int(const std::vector<std::int64_t>& v) {
+namespace ppo_range = rl::ppo_range;
+
+// actor_hidden / critic_hidden: layer sizes, layer count in ppo_range::hidden_layers.
+std::vector<int> hidden(TableReader& t, std::string_view key, const std::vector<int>& def) {
+  const auto v = t.integers(key, std::vector<std::int64_t>(def.begin(), def.end()),
+                            ppo_range::hidden_size.lo, ppo_range::hidden_size.hi,
+                            static_cast<std::size_t>(ppo_range::hidden_layers.lo),
+                            static_cast<std::size_t>(ppo_range::hidden_layers.hi));
   return std::vector<int>(v.begin(), v.end());
-}
-std::vector<std::int64_t> to_int64(const std::vector<int>& v) {
-  return std::vector<std::int64_t>(v.begin(), v.end());
 }
 
 }  // namespace
@@ -31,41 +35,41 @@ rl::MatmulPrecision matmul_precision_from_name(std::string_view name) {
 
 rl::PpoConfig read_ppo_config(TableReader& t, const rl::PpoConfig& d) {
   rl::PpoConfig c;
-  c.learning_rate = t.number("learning_rate", d.learning_rate, 1e-9, 1.0);
-  c.n_steps = static_cast<int>(t.integer("n_steps", d.n_steps, 1, 1'000'000));
-  c.batch_size = static_cast<int>(t.integer("batch_size", d.batch_size, 1, 100'000'000));
-  c.n_epochs = static_cast<int>(t.integer("n_epochs", d.n_epochs, 1, 10'000));
-  c.gamma = t.number("gamma", d.gamma, 0.0, 1.0);
-  c.gae_lambda = t.number("gae_lambda", d.gae_lambda, 0.0, 1.0);
-  c.clip_range = t.number("clip_range", d.clip_range, 1e-6, 10.0);
-  c.ent_coef = t.number("ent_coef", d.ent_coef, 0.0, 10.0);
+  c.learning_rate = t.number("learning_rate", d.learning_rate, ppo_range::learning_rate);
+  c.n_steps = static_cast<int>(t.integer("n_steps", d.n_steps, ppo_range::n_steps));
+  c.batch_size = static_cast<int>(t.integer("batch_size", d.batch_size, ppo_range::batch_size));
+  c.n_epochs = static_cast<int>(t.integer("n_epochs", d.n_epochs, ppo_range::n_epochs));
+  c.gamma = t.number("gamma", d.gamma, ppo_range::gamma);
+  c.gae_lambda = t.number("gae_lambda", d.gae_lambda, ppo_range::gae_lambda);
+  c.clip_range = t.number("clip_range", d.clip_range, ppo_range::clip_range);
+  c.ent_coef = t.number("ent_coef", d.ent_coef, ppo_range::ent_coef);
   c.ent_decay_start = d.ent_decay_start;
   c.ent_decay_end = d.ent_decay_end;
   if (t.has("ent_decay_start") || t.has("ent_decay_end")) {
     if (!t.has("ent_decay_start") || !t.has("ent_decay_end"))
       t.fail(t.has("ent_decay_start") ? "ent_decay_end" : "ent_decay_start",
              "missing; ent_decay_start and ent_decay_end must be given together");
-    c.ent_decay_start = t.integer("ent_decay_start", 0, 0, kMaxSteps);
-    c.ent_decay_end = t.integer("ent_decay_end", 0, 1, kMaxSteps);
+    c.ent_decay_start = t.integer("ent_decay_start", 0, ppo_range::ent_decay_timesteps);
+    c.ent_decay_end = t.integer("ent_decay_end", 0, ppo_range::ent_decay_timesteps);
     if (*c.ent_decay_end <= *c.ent_decay_start)
       t.fail("ent_decay_end", "must be greater than ent_decay_start (" +
                                   std::to_string(*c.ent_decay_start) + ")");
   } else {
     // Mark both as read so finish() accepts neither being present.
-    t.integer("ent_decay_start", 0, 0, kMaxSteps);
-    t.integer("ent_decay_end", 0, 0, kMaxSteps);
+    t.integer("ent_decay_start", 0, ppo_range::ent_decay_timesteps);
+    t.integer("ent_decay_end", 0, ppo_range::ent_decay_timesteps);
   }
-  c.vf_coef = t.number("vf_coef", d.vf_coef, 0.0, 1000.0);
-  c.max_grad_norm = t.number("max_grad_norm", d.max_grad_norm, 1e-9, 1e9);
+  c.vf_coef = t.number("vf_coef", d.vf_coef, ppo_range::vf_coef);
+  c.max_grad_norm = t.number("max_grad_norm", d.max_grad_norm, ppo_range::max_grad_norm);
   c.target_kl = d.target_kl;
-  if (t.has("target_kl")) c.target_kl = t.number("target_kl", 0.0, 1e-9, 100.0);
-  else t.number("target_kl", 0.0, 1e-9, 100.0);
+  if (t.has("target_kl")) c.target_kl = t.number("target_kl", 0.0, ppo_range::target_kl);
+  else t.number("target_kl", 0.0, ppo_range::target_kl);
   c.normalize_advantage = t.boolean("normalize_advantage", d.normalize_advantage);
-  c.actor_hidden = to_int(t.integers("actor_hidden", to_int64(d.actor_hidden), 1, 8192, 1, 16));
+  c.actor_hidden = hidden(t, "actor_hidden", d.actor_hidden);
   c.critic_hidden =
-      to_int(t.integers("critic_hidden", to_int64(d.critic_hidden), 1, 8192, 1, 16));
-  c.log_std_init = t.number("log_std_init", d.log_std_init, -20.0, 5.0);
-  c.adam_eps = t.number("adam_eps", d.adam_eps, 1e-20, 1.0);
+      hidden(t, "critic_hidden", d.critic_hidden);
+  c.log_std_init = t.number("log_std_init", d.log_std_init, ppo_range::log_std_init);
+  c.adam_eps = t.number("adam_eps", d.adam_eps, ppo_range::adam_eps);
   const std::string precision =
       t.string("matmul_precision", "auto", {"auto", "float32", "bf16"});
   if (precision == "bf16" && !rl::bf16_gemm_available())

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "base/errors.hpp"
+#include "base/range.hpp"
 
 namespace toml {
 inline namespace v3 {
@@ -37,6 +38,14 @@ class TableReader {
   // Optional scalars: default when absent. Ranges are inclusive.
   double number(std::string_view key, double def, double lo, double hi);
   std::int64_t integer(std::string_view key, std::int64_t def, std::int64_t lo, std::int64_t hi);
+  // The same with the range stated once next to the config struct (base/range.hpp).
+  double number(std::string_view key, double def, Range<double> r) {
+    return number(key, def, r.lo, r.hi);
+  }
+  template <class I>
+  std::int64_t integer(std::string_view key, std::int64_t def, Range<I> r) {
+    return integer(key, def, r.lo, r.hi);
+  }
   bool boolean(std::string_view key, bool def);
   // `allowed` empty: any string.
   std::string string(std::string_view key, std::string def,

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -39,30 +40,51 @@ double entropy_coef_at(const PpoConfig& config, std::int64_t num_timesteps) {
   return config.ent_coef * static_cast<double>(t1 - num_timesteps) / static_cast<double>(t1 - t0);
 }
 
+namespace {
+
+std::string range_text(double lo, double hi) {
+  std::ostringstream os;
+  os << '[' << lo << ", " << hi << ']';
+  return os.str();
+}
+
+}  // namespace
+
 void validate(const PpoConfig& c) {
   auto fail = [](const std::string& what) { throw std::invalid_argument("PpoConfig: " + what); };
-  if (!(c.learning_rate > 0)) fail("learning_rate must be > 0");
-  if (c.n_steps < 1) fail("n_steps must be >= 1");
-  if (c.batch_size < 1) fail("batch_size must be >= 1");
-  if (c.n_epochs < 1) fail("n_epochs must be >= 1");
-  if (!(c.gamma >= 0 && c.gamma <= 1)) fail("gamma must be in [0, 1]");
-  if (!(c.gae_lambda >= 0 && c.gae_lambda <= 1)) fail("gae_lambda must be in [0, 1]");
-  if (!(c.clip_range > 0)) fail("clip_range must be > 0");
-  if (!(c.ent_coef >= 0)) fail("ent_coef must be >= 0");
+  auto check = [&](const char* name, auto v, auto range) {
+    if (!range.contains(v)) {
+      fail(std::string(name) + " must be in " +
+           range_text(static_cast<double>(range.lo), static_cast<double>(range.hi)));
+    }
+  };
+  check("learning_rate", c.learning_rate, ppo_range::learning_rate);
+  check("n_steps", std::int64_t{c.n_steps}, ppo_range::n_steps);
+  check("batch_size", std::int64_t{c.batch_size}, ppo_range::batch_size);
+  check("n_epochs", std::int64_t{c.n_epochs}, ppo_range::n_epochs);
+  check("gamma", c.gamma, ppo_range::gamma);
+  check("gae_lambda", c.gae_lambda, ppo_range::gae_lambda);
+  check("clip_range", c.clip_range, ppo_range::clip_range);
+  check("ent_coef", c.ent_coef, ppo_range::ent_coef);
   if (c.ent_decay_start.has_value() != c.ent_decay_end.has_value())
     fail("ent_decay_start and ent_decay_end must be given together");
-  if (c.ent_decay_start && !(*c.ent_decay_start >= 0 && *c.ent_decay_end > *c.ent_decay_start))
-    fail("need 0 <= ent_decay_start < ent_decay_end");
-  if (!(c.vf_coef >= 0)) fail("vf_coef must be >= 0");
-  if (!(c.max_grad_norm > 0)) fail("max_grad_norm must be > 0");
-  if (c.target_kl && !(*c.target_kl > 0)) fail("target_kl must be > 0 when set");
-  if (!(c.adam_eps > 0)) fail("adam_eps must be > 0");
+  if (c.ent_decay_start) {
+    check("ent_decay_start", *c.ent_decay_start, ppo_range::ent_decay_timesteps);
+    check("ent_decay_end", *c.ent_decay_end, ppo_range::ent_decay_timesteps);
+    if (!(*c.ent_decay_end > *c.ent_decay_start)) fail("need ent_decay_start < ent_decay_end");
+  }
+  check("vf_coef", c.vf_coef, ppo_range::vf_coef);
+  check("max_grad_norm", c.max_grad_norm, ppo_range::max_grad_norm);
+  if (c.target_kl) check("target_kl", *c.target_kl, ppo_range::target_kl);
+  check("log_std_init", c.log_std_init, ppo_range::log_std_init);
+  check("adam_eps", c.adam_eps, ppo_range::adam_eps);
   if (c.matmul_precision == MatmulPrecision::BFloat16 && !bf16_gemm_available())
     fail("matmul_precision bf16 needs AVX-512 BF16, which this build/CPU does not have");
-  for (int h : c.actor_hidden)
-    if (h < 1) fail("actor_hidden sizes must be >= 1");
-  for (int h : c.critic_hidden)
-    if (h < 1) fail("critic_hidden sizes must be >= 1");
+  for (const auto* hidden : {&c.actor_hidden, &c.critic_hidden}) {
+    const char* name = hidden == &c.actor_hidden ? "actor_hidden" : "critic_hidden";
+    check(name, static_cast<std::int64_t>(hidden->size()), ppo_range::hidden_layers);
+    for (int h : *hidden) check(name, std::int64_t{h}, ppo_range::hidden_size);
+  }
 }
 
 template <class S>

@@ -40,6 +40,12 @@ TEST(ConfigReader, BaselineSwitch) {
             std::string::npos);
 }
 
+TEST(ConfigReader, NoThetaLimitOfItsOwn) {
+  // The episode ends at the scene's limit ([scene] theta_limit_deg); [task] has no second one.
+  EXPECT_NE(error_of("[task]\ntheta_limit_rad = 1.0\n", true).find("task.theta_limit_rad"),
+            std::string::npos);
+}
+
 TEST(ConfigReader, SingleDesignIndexRange) {
   EXPECT_EQ(error_of("[codesign]\nsingle_design_index = 110\n", false),
             "run.toml: codesign.single_design_index: value 110 is out of range; allowed [0, 109]");
