@@ -12,11 +12,14 @@ namespace codesign::app {
 
 using Runner = std::function<int()>;
 
+void add_run_command(CLI::App& root, Runner& run);        // cmd_run.cpp (the main job)
+void add_survey_command(CLI::App& root, Runner& run);     // cmd_survey.cpp
 void add_mesh_command(CLI::App& root, Runner& run);       // cmd_mesh.cpp
 void add_sim_command(CLI::App& root, Runner& run);        // cmd_sim.cpp
 void add_train_gym_command(CLI::App& root, Runner& run);  // cmd_train_gym.cpp
 // `codesign bench <what>`: main.cpp creates the `bench` parent.
 void add_bench_fem_command(CLI::App& bench, Runner& run);  // bench_fem.cpp
 void add_bench_ppo_command(CLI::App& bench, Runner& run);  // bench_ppo.cpp
+void add_bench_codesign_command(CLI::App& bench, Runner& run);  // bench_codesign.cpp
 
 }  // namespace codesign::app

@@ -10,15 +10,15 @@
 
 namespace {
 
-// `codesign --config run.toml` is the main job. Until the co-design loop exists, the main job
-// is the simulation scenario of the config, i.e. the same as `codesign sim --config run.toml`.
+// `codesign --config run.toml -o runs/NAME` is the main job: the co-design run, i.e. the same as
+// `codesign run --config run.toml -o runs/NAME`.
 std::vector<std::string> with_default_command(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   const bool starts_with_option = !args.empty() && args.front().rfind("--", 0) == 0;
   bool has_config = false;
   for (const auto& a : args) has_config = has_config || a == "--config" || a.rfind("--config=", 0) == 0;
   const bool wants_help = args.size() == 1 && (args[0] == "--help" || args[0] == "--version");
-  if (starts_with_option && has_config && !wants_help) args.insert(args.begin(), "sim");
+  if (starts_with_option && has_config && !wants_help) args.insert(args.begin(), "run");
   return args;
 }
 
@@ -29,15 +29,18 @@ int main(int argc, char** argv) {
   CLI::App root{"codesign: co-design of a soft pneumatic whisker and its feedback controller"};
   root.set_version_flag("--version", std::string("codesign 0.1.0"));
   root.require_subcommand(1);
-  root.footer("Main job: codesign --config run.toml  (see README.md)");
+  root.footer("Main job: codesign --config run.toml -o runs/NAME  (see README.md)");
 
   app::Runner run;
+  app::add_run_command(root, run);
+  app::add_survey_command(root, run);
   app::add_mesh_command(root, run);
   app::add_sim_command(root, run);
   app::add_train_gym_command(root, run);
   CLI::App* bench = root.add_subcommand("bench", "Speed benchmarks that print figures and ratios");
   bench->require_subcommand(1);
   app::add_bench_fem_command(*bench, run);
+  app::add_bench_codesign_command(*bench, run);
   app::add_bench_ppo_command(*bench, run);
 
   std::vector<std::string> args = with_default_command(argc, argv);

@@ -26,12 +26,11 @@ SimSetup read_sim_setup(const std::string& config_path) {
     fibres.finish();
   }
   s.scenario = io::read_sim_scenario(root);
-  // Tables of the other commands: validated here so that one run config serves them all.
-  if (root.has("task")) (void)coopt::read_task_config(root);
-  if (root.has("codesign")) (void)coopt::read_codesign_config(root);
-  if (root.has("ppo")) {
+  s.task = coopt::read_task_config(root);
+  s.codesign = coopt::read_codesign_config(root, s.task);
+  {
     io::TableReader ppo = root.table("ppo");
-    (void)io::read_ppo_config(ppo);
+    s.ppo = io::read_ppo_config(ppo, rl::paper_ppo_config());
     ppo.finish();
   }
   root.finish();

@@ -4,10 +4,13 @@
 #include <memory>
 #include <string>
 
+#include "codesign/codesign_config.hpp"
+#include "codesign/task_config.hpp"
 #include "fem/simulator.hpp"
 #include "fem/whisker_model.hpp"
 #include "io/fem_config.hpp"
 #include "io/toml_reader.hpp"
+#include "rl/ppo.hpp"
 
 namespace codesign::app {
 
@@ -16,6 +19,9 @@ struct SimSetup {
   fem::SceneConfig scene;
   fem::SolverConfig solver;
   io::SimScenario scenario;
+  coopt::TaskConfig task;          // [task]
+  coopt::CodesignConfig codesign;  // [codesign]
+  rl::PpoConfig ppo;               // [ppo] over the paper's settings (rl::paper_ppo_config)
 };
 
 // Reads [geometry], [mesh], [fibres] (layout + stiffness), [material], [scene], [solver], [sim]

@@ -22,36 +22,43 @@ TaskConfig read_task_config(io::TableReader& root) {
   c.kappa = t.number("kappa", c.kappa, 0.1, 10.0);
   c.smooth_penalty = t.number("smooth_penalty", c.smooth_penalty, 0.0, 10.0);
   c.flip_penalty = t.number("flip_penalty", c.flip_penalty, 0.0, 10.0);
+  const std::string obs = t.string("observation", to_string(c.observation), {"paper", "proprioceptive", "no_feedback"});
+  c.observation = obs == "proprioceptive" ? ObservationSet::Proprioceptive
+                  : obs == "no_feedback"  ? ObservationSet::NoFeedback
+                                          : ObservationSet::Paper;
+  c.strain_min = t.number("strain_min", c.strain_min, -1.0, 1.0);
+  c.strain_max = t.number("strain_max", c.strain_max, -1.0, 1.0);
+  if (!(c.strain_max > c.strain_min))
+    t.fail("strain_max", "must exceed task.strain_min (" + std::to_string(c.strain_min) + ")");
+  c.pressure_max_kPa = t.number("pressure_max_kPa", c.pressure_max_kPa, 1e-3, 100.0);
   t.finish();
   return c;
 }
 
-CodesignConfig read_codesign_config(io::TableReader& root) {
+CodesignConfig read_codesign_config(io::TableReader& root, const TaskConfig& task) {
   io::TableReader t = root.table("codesign");
   CodesignConfig c;
   c.total_timesteps = t.integer("total_timesteps", c.total_timesteps, 1, 1'000'000'000);
   c.designs_per_update = static_cast<int>(t.integer("designs_per_update", c.designs_per_update, 1, 1024));
-  c.design_batch = static_cast<int>(t.integer("design_batch", c.design_batch, 1, 1024));
-  c.exploration_end = t.integer("exploration_end", c.exploration_end, 0, c.total_timesteps);
-  c.exploitation_start =
-      t.integer("exploitation_start", c.exploitation_start, c.exploration_end, c.total_timesteps);
-  c.alpha = t.number("alpha", c.alpha, 0.0, 1.0);
+  c.exploitation_start = t.integer("exploitation_start", c.exploitation_start, 1, 1'000'000'000);
+  c.exploration_end = t.integer("exploration_end", c.exploration_end, 0, c.exploitation_start - 1);
+  c.alpha = t.number("alpha", c.alpha, 1e-9, 1.0);
   c.phi = t.number("phi", c.phi, 0.0, 1.0);
   c.beta_start = t.number("beta_start", c.beta_start, 0.0, 1e3);
   c.beta_end = t.number("beta_end", c.beta_end, 0.0, 1e3);
   c.reward_buffer = static_cast<int>(t.integer("reward_buffer", c.reward_buffer, 2, 100000));
-  c.pressure_max_kPa = t.number("pressure_max_kPa", c.pressure_max_kPa, 0.0, 100.0);
   c.latent_mu0 = t.number("latent_mu0", c.latent_mu0, -10.0, 10.0);
   c.latent_sigma0 = t.number("latent_sigma0", c.latent_sigma0, 1e-6, 10.0);
-  const std::string b = t.string("baseline", "none", {"none", "no_feedback", "single_design"});
-  c.baseline = b == "no_feedback"     ? Baseline::NoFeedback
-               : b == "single_design" ? Baseline::SingleDesign
-                                      : Baseline::None;
+  c.latent_sigma_min = t.number("latent_sigma_min", c.latent_sigma_min, 1e-9, c.latent_sigma0);
+  const std::string b = t.string("baseline", "none", {"none", "single_design"});
+  c.baseline = b == "single_design" ? Baseline::SingleDesign : Baseline::None;
   c.single_design_index =
       static_cast<int>(t.integer("single_design_index", c.single_design_index, 0, fem::kDesignCount - 1));
-  c.single_design_p1_kPa = t.number("single_design_p1_kPa", c.single_design_p1_kPa, 0.0, c.pressure_max_kPa);
-  c.single_design_p2_kPa = t.number("single_design_p2_kPa", c.single_design_p2_kPa, 0.0, c.pressure_max_kPa);
-  c.eval_decisions = static_cast<int>(t.integer("eval_decisions", c.eval_decisions, 1, 100000));
+  c.single_design_p1_kPa = t.number("single_design_p1_kPa", c.single_design_p1_kPa, 0.0, task.pressure_max_kPa);
+  c.single_design_p2_kPa = t.number("single_design_p2_kPa", c.single_design_p2_kPa, 0.0, task.pressure_max_kPa);
+  c.random_plate_phase = t.boolean("random_plate_phase", c.random_plate_phase);
+  c.plate_phase_rad = t.number("plate_phase_deg", 0.0, -360.0, 360.0) * std::numbers::pi / 180.0;
+  c.eval_episodes = static_cast<int>(t.integer("eval_episodes", c.eval_episodes, 1, 100000));
   c.checkpoint_every = t.integer("checkpoint_every", c.checkpoint_every, 1, 1'000'000'000);
   c.seed = static_cast<std::uint64_t>(t.integer("seed", 1, 0, std::int64_t{1} << 62));
   t.finish();

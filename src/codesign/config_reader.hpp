@@ -7,6 +7,7 @@
 namespace codesign::coopt {
 
 TaskConfig read_task_config(io::TableReader& root);
-CodesignConfig read_codesign_config(io::TableReader& root);
+// The [codesign] table; pressure ranges come from the task (read it first).
+CodesignConfig read_codesign_config(io::TableReader& root, const TaskConfig& task);
 
 }  // namespace codesign::coopt

@@ -1,25 +1,44 @@
 #pragma once
-// The whisker force-tracking MDP of the paper (§IV-A, §V-A), as a value type with the paper's
-// defaults. Where the paper is silent the choice is ours and is marked "(ours)".
+// The whisker force-tracking MDP of the paper (§IV-A, §V-A; SPEC §3), as a value type with the
+// paper's defaults. Where the paper is silent the choice is ours and is marked "(ours)".
 #include <numbers>
 
 namespace codesign::coopt {
+
+// Which observation the policy sees (whisker_env.hpp lists the components):
+//   Paper          {j, p, ε}      the paper's main framework (default)
+//   Proprioceptive {j, p, ε, θ}   ours: the motor encoder's base angle added (SPEC §3)
+//   NoFeedback     {p}            the paper's no-feedback baseline: ε and morphology removed
+enum class ObservationSet { Paper, Proprioceptive, NoFeedback };
+
+inline const char* to_string(ObservationSet s) {
+  switch (s) {
+    case ObservationSet::Paper: return "paper";
+    case ObservationSet::Proprioceptive: return "proprioceptive";
+    case ObservationSet::NoFeedback: return "no_feedback";
+  }
+  return "?";
+}
 
 struct TaskConfig {
   int episode_steps = 250;        // simulation steps per episode (paper)
   int action_hold_steps = 5;      // an action is held for 5 steps -> 50 decisions (paper)
   double theta_max_rad = std::numbers::pi / 18.0;  // Δθ = a·θ_max (paper)
-  double target_force_mN = 20.0;  // F_t (ours; set from the default scene's force range)
+  double target_force_mN = 20.0;  // F_t (ours; inside the default scene's force swing at θ = 0)
   double tolerance_fraction = 0.2;  // band ±20 % of F_t (paper)
   double kappa = 1.5;             // raised-cosine exponent (paper)
   double smooth_penalty = 0.05;   // r_smooth = c·|Δθ|/θ_max (spec)
   double flip_penalty = 0.1;      // r_flip when sign(Δθ) flips (spec)
   // The episode ends early when fem::Sensors::theta_extreme is set, i.e. |θ| beyond the scene's
   // fem::SceneConfig::theta_limit_deg ([scene] theta_limit_deg): one limit, stated there.
+  ObservationSet observation = ObservationSet::Paper;
+  // Reference range of ε for the observation's min–max scaling, measured by `codesign survey`
+  // over all 110 designs, the pressure corners and θ0 ∈ {−θ_max, 0, θ_max} (docs/codesign.md).
+  double strain_min = -0.02;
+  double strain_max = 0.08;
+  // Chamber pressures p_i ∈ [0, pressure_max_kPa] (paper: 20 kPa): the observation's pressure
+  // scale and the range of the design distribution's latent map.
+  double pressure_max_kPa = 20.0;
 };
-
-// Which observation the policy sees: the paper's main framework, or its no-feedback baseline
-// where strain and morphology are removed from the state.
-enum class ObservationSet { Full, NoFeedback };
 
 }  // namespace codesign::coopt

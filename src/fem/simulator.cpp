@@ -659,6 +659,8 @@ void Simulator::set_base_angle(double theta_rad) { set_base_angle_target(theta_r
 
 void Simulator::set_plate_mean_z(double z0_mm) { impl_->z_mean = z0_mm; }
 
+void Simulator::set_plate_phase(double phase_rad) { impl_->scene.plate_phase_rad = phase_rad; }
+
 Sensors Simulator::sensors() const {
   const Impl& m = *impl_;
   Sensors s;

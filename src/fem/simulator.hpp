@@ -115,6 +115,9 @@ class Simulator {
   void set_base_angle(double theta_rad);
   // Plate: override the mean height (world z) — default comes from the scene's preload.
   void set_plate_mean_z(double z0_mm);
+  // Plate: phase of the oscillation, z_plate = z0 + U sin(ω t + phase). Kept across reset();
+  // set it before settle(), which loads the body up to the plate height at t = 0.
+  void set_plate_phase(double phase_rad);
 
   Sensors sensors() const;
   // Per tet: axial engineering strain ‖F x̂‖ − 1 at the current state (for plots / VTK).

@@ -74,6 +74,21 @@ void AdamT<S>::begin_step(std::span<const AdamBlock<S>> blocks, double lr, doubl
 }
 
 template <class S>
+void AdamT<S>::restore(std::int64_t step_count, std::vector<Eigen::Matrix<S, Eigen::Dynamic, 1>> m,
+                       std::vector<Eigen::Matrix<S, Eigen::Dynamic, 1>> v) {
+  if (pending()) throw std::logic_error("Adam::restore: a step is pending");
+  if (step_count < 0 || m.size() != v.size())
+    throw std::invalid_argument("Adam::restore: negative step count or moment lists of different lengths");
+  for (std::size_t i = 0; i < m.size(); ++i)
+    if (m[i].size() != v[i].size()) throw std::invalid_argument("Adam::restore: moment sizes differ");
+  if (step_count > 0 && m.empty()) throw std::invalid_argument("Adam::restore: steps taken but no moments");
+  t_ = step_count;
+  m_ = std::move(m);
+  v_ = std::move(v);
+  applied_.assign(m_.size(), 0);
+}
+
+template <class S>
 bool AdamT<S>::pending() const {
   for (const Eigen::Index a : applied_)
     if (a != 0) return true;

@@ -58,6 +58,12 @@ class AdamT {
   // First and second moments of block i (empty before the first step).
   const Eigen::Matrix<S, Eigen::Dynamic, 1>& first_moment(std::size_t i) const { return m_[i]; }
   const Eigen::Matrix<S, Eigen::Dynamic, 1>& second_moment(std::size_t i) const { return v_[i]; }
+  std::size_t block_count() const { return m_.size(); }
+  // Restores the state saved from step_count(), first_moment(i) and second_moment(i) (for
+  // checkpoints). m and v must have one vector per block with equal sizes; throws
+  // std::invalid_argument otherwise. No step may be pending.
+  void restore(std::int64_t step_count, std::vector<Eigen::Matrix<S, Eigen::Dynamic, 1>> m,
+               std::vector<Eigen::Matrix<S, Eigen::Dynamic, 1>> v);
 
  private:
   AdamConfig config_;

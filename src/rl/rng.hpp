@@ -10,8 +10,11 @@
 //   Rng child = rng.split();         // an independent stream (e.g. one per environment)
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <numbers>
 #include <random>
+#include <sstream>
+#include <string>
 
 namespace codesign::rl {
 
@@ -57,6 +60,31 @@ class Rng {
   }
 
   std::mt19937_64& engine() { return engine_; }
+
+  // The whole state (engine and the cached Box-Muller value) as text, for checkpoints;
+  // restore() gives a generator whose future draws are identical. restore() returns false (and
+  // leaves the generator unchanged) for text that is not such a state.
+  std::string save() const {
+    std::ostringstream out;
+    out << engine_ << ' ' << (has_spare_ ? 1 : 0) << ' ' << std::hexfloat << spare_;
+    return out.str();
+  }
+  bool restore(const std::string& text) {
+    std::istringstream in(text);
+    std::mt19937_64 e;
+    int has = 0;
+    std::string spare;
+    if (!(in >> e >> has >> spare) || (has != 0 && has != 1)) return false;
+    char* end = nullptr;
+    const double v = std::strtod(spare.c_str(), &end);
+    if (end == spare.c_str() || *end != '\0') return false;
+    std::string rest;
+    if (in >> rest) return false;
+    engine_ = e;
+    has_spare_ = has == 1;
+    spare_ = v;
+    return true;
+  }
 
  private:
   std::mt19937_64 engine_;

@@ -12,7 +12,7 @@ std::string error_of(const std::string& text, bool task) {
     if (task) {
       read_task_config(r);
     } else {
-      read_codesign_config(r);
+      read_codesign_config(r, TaskConfig{});
     }
   } catch (const InputError& e) {
     return e.what();
@@ -27,17 +27,26 @@ TEST(ConfigReader, HoldMustDivideEpisode) {
 }
 
 TEST(ConfigReader, PhasesMustBeOrdered) {
-  // T2 may not come before T1: the allowed range of exploitation_start starts at T1.
+  // T1 must come before T2: the allowed range of exploration_end ends just before T2.
   EXPECT_EQ(error_of("[codesign]\nexploration_end = 300000\nexploitation_start = 200000\n", false),
-            "run.toml: codesign.exploitation_start: value 200000 is out of range; allowed "
-            "[300000, 1000000]");
+            "run.toml: codesign.exploration_end: value 300000 is out of range; allowed "
+            "[0, 199999]");
 }
 
 TEST(ConfigReader, BaselineSwitch) {
-  io::TableReader r = io::TableReader::from_string("[codesign]\nbaseline = \"no_feedback\"\n", "run.toml");
-  EXPECT_EQ(read_codesign_config(r).baseline, Baseline::NoFeedback);
+  io::TableReader r = io::TableReader::from_string("[codesign]\nbaseline = \"single_design\"\n", "run.toml");
+  EXPECT_EQ(read_codesign_config(r, TaskConfig{}).baseline, Baseline::SingleDesign);
   EXPECT_NE(error_of("[codesign]\nbaseline = \"random\"\n", false).find("allowed: \"none\""),
             std::string::npos);
+  // The no-feedback baseline is an observation set, not a second switch.
+  EXPECT_NE(error_of("[codesign]\nbaseline = \"no_feedback\"\n", false), "");
+  io::TableReader t = io::TableReader::from_string("[task]\nobservation = \"no_feedback\"\n", "run.toml");
+  EXPECT_EQ(read_task_config(t).observation, ObservationSet::NoFeedback);
+}
+
+TEST(ConfigReader, StrainRangeMustBeOrdered) {
+  EXPECT_EQ(error_of("[task]\nstrain_min = 0.1\nstrain_max = 0.05\n", true),
+            "run.toml: task.strain_max: must exceed task.strain_min (0.100000)");
 }
 
 TEST(ConfigReader, NoThetaLimitOfItsOwn) {

@@ -1,0 +1,76 @@
+// `codesign run --config run.toml -o runs/NAME [--resume] [--force] [--threads N]`
+// (also the main job: `codesign --config run.toml -o runs/NAME`).
+//
+// Runs the co-design (Algorithm 1 + 2) of the config's [codesign], [task], [ppo] and simulator
+// tables, writing the run folder described in src/codesign/run.hpp.
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "base/errors.hpp"
+#include "codesign/run.hpp"
+#include "commands.hpp"
+#include "sim_setup.hpp"
+
+namespace codesign::app {
+
+namespace {
+
+struct RunCliOptions {
+  std::string config;
+  std::string out;
+  bool resume = false;
+  bool force = false;
+  int threads = 0;
+  long long stop_after = -1;
+  bool quiet = false;
+};
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open config file");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+int run_main_job(const RunCliOptions& o) {
+  const SimSetup setup = read_sim_setup(o.config);
+  coopt::RunSettings s;
+  s.spec = setup.spec;
+  s.scene = setup.scene;
+  s.solver = setup.solver;
+  s.loop = {setup.task, setup.codesign, setup.ppo};
+  s.config_text = read_text(o.config);
+  coopt::RunOptions ro;
+  ro.dir = o.out;
+  ro.resume = o.resume;
+  ro.force = o.force;
+  ro.threads = static_cast<std::size_t>(o.threads);
+  ro.progress = !o.quiet;
+  ro.stop_after = o.stop_after;
+  const coopt::RunResult r = coopt::run_codesign(s, ro);
+  return r.completed ? 0 : 4;
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& root, Runner& run) {
+  auto opt = std::make_shared<RunCliOptions>();
+  CLI::App* cmd = root.add_subcommand("run", "Co-design run: Algorithms 1 and 2, evaluation, result.toml (the main job)");
+  cmd->add_option("--config", opt->config, "run config (TOML)")->required();
+  cmd->add_option("-o,--out", opt->out, "run folder (e.g. runs/NAME)")->required();
+  CLI::Option* resume = cmd->add_flag("--resume", opt->resume, "continue the run in the folder from its checkpoint.bin");
+  CLI::Option* force = cmd->add_flag("--force", opt->force, "start afresh even if the folder holds an earlier run");
+  resume->excludes(force);
+  cmd->add_option("--threads", opt->threads, "rollout threads, counting the main one (0: all cores)")
+      ->check(CLI::Range(0, 1024));
+  cmd->add_option("--stop-after", opt->stop_after,
+                  "stop (checkpointed, exit status 4) after the iteration reaching this many timesteps; for tests")
+      ->check(CLI::Range(0LL, 1LL << 40));
+  cmd->add_flag("--quiet", opt->quiet, "no progress line");
+  cmd->callback([opt, &run] { run = [opt] { return run_main_job(*opt); }; });
+}
+
+}  // namespace codesign::app

@@ -1,0 +1,41 @@
+#pragma once
+// Checkpoints of a co-design run: the whole LoopState plus the run's bookkeeping, in one
+// versioned, checksummed binary file written atomically (PATH.tmp, then rename).
+//
+// Format (little-endian; version 1):
+//   magic "CDSCKPT1", u32 version, u64 config fingerprint (FNV-1a of the resolved config text),
+//   i64 k, i64 t, f64 wall_s,
+//   vectors (u64 length + f32 data): actor, critic, log_std,
+//   i64 adam steps, u64 block count, per block: m, v,
+//   strings (u64 length + bytes): act, update and design RNG states,
+//   distribution: u64 designs; score, baseline (f64 vectors); per design μ (2 f64), Σ (4 f64),
+//     buffer (u64 length + f64s), samples (i64); u8 collapsed, i32 best design, 2 f64 best latent,
+//   u64 log count, per log: string name, u64 byte offset,
+//   u64 FNV-1a checksum of every byte before it.
+// Reading checks every length against the bytes left, the checksum, the version and the config
+// fingerprint, and throws codesign::InputError naming the file and the defect.
+#include <cstdint>
+#include <map>
+#include <string>
+
+#include "codesign/outer_loop.hpp"
+
+namespace codesign::coopt {
+
+inline constexpr std::uint32_t kCheckpointVersion = 1;
+
+struct Checkpoint {
+  std::uint64_t config_fingerprint = 0;
+  double wall_s = 0.0;                         // run time before this checkpoint (progress only)
+  LoopState loop;
+  std::map<std::string, std::uint64_t> logs;   // log file name -> byte length at the checkpoint
+};
+
+void save_checkpoint(const std::string& path, const Checkpoint& c);
+// expected_fingerprint: the fingerprint of the config the run is resumed with.
+Checkpoint load_checkpoint(const std::string& path, std::uint64_t expected_fingerprint);
+
+// FNV-1a 64 of a text (the config fingerprint).
+std::uint64_t fingerprint(const std::string& text);
+
+}  // namespace codesign::coopt

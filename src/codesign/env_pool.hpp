@@ -1,0 +1,64 @@
+#pragma once
+// Rollout collection backend of Algorithm 1: ψ whisker environments, each given its own design
+// for the iteration, stepped together.
+//
+// EnvPool is the interface a backend implements (a multi-process backend would forward the same
+// calls to worker processes); ThreadEnvPool steps the environments on a thread pool.
+// Semantics (both): start() begins one episode per environment with its EpisodeSetup and
+// returns the first observations; step() applies one action per environment. An environment
+// whose episode ended (terminated or truncated) restarts at once with the SAME setup (SB3's
+// auto-reset), its last observation kept in terminal_obs. Results never depend on the number
+// of threads: every environment owns its state and draws no random numbers.
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "codesign/whisker_env.hpp"
+#include "rl/thread_pool.hpp"
+#include "rl/vec_env.hpp"
+
+namespace codesign::coopt {
+
+class EnvPool {
+ public:
+  virtual ~EnvPool() = default;
+  virtual std::size_t size() const = 0;
+  virtual const rl::EnvSpec& spec() const = 0;
+  // setups.size() == size(); returns obs_dim x size.
+  virtual Eigen::MatrixXd start(const std::vector<EpisodeSetup>& setups) = 0;
+  // actions: act_dim x size, already clipped to the action bounds. restart = false on the last
+  // step of a rollout: a finished episode is not restarted (its obs column is then the terminal
+  // observation), which saves a settle per environment and iteration.
+  virtual const rl::VecStepResult& step(const Eigen::MatrixXd& actions, bool restart) = 0;
+  // Decisions inside the force band during the episode of environment i that ended at the last
+  // step() (valid where that step ended an episode).
+  virtual int last_in_band(std::size_t i) const = 0;
+  // Seconds (summed over the environments, i.e. CPU time) spent settling and stepping so far.
+  virtual double settle_seconds() const = 0;
+  virtual double step_seconds() const = 0;
+};
+
+class ThreadEnvPool final : public EnvPool {
+ public:
+  // n_threads counts the caller (0: all cores).
+  ThreadEnvPool(std::shared_ptr<SimulatorPool> sims, const TaskConfig& task, std::size_t n_envs,
+                std::size_t n_threads);
+  std::size_t size() const override { return envs_.size(); }
+  const rl::EnvSpec& spec() const override { return envs_.front()->spec(); }
+  Eigen::MatrixXd start(const std::vector<EpisodeSetup>& setups) override;
+  const rl::VecStepResult& step(const Eigen::MatrixXd& actions, bool restart) override;
+  int last_in_band(std::size_t i) const override { return last_in_band_[i]; }
+  double settle_seconds() const override;
+  double step_seconds() const override;
+  std::size_t threads() const { return pool_.size(); }
+
+ private:
+  std::vector<std::unique_ptr<WhiskerEnv>> envs_;
+  rl::ThreadPool pool_;
+  rl::VecStepResult result_;
+  std::vector<int> last_in_band_;
+};
+
+}  // namespace codesign::coopt

@@ -1,0 +1,227 @@
+#include "codesign/outer_loop.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "fem/design.hpp"
+#include "rl/trainer.hpp"
+
+namespace codesign::coopt {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+const LoopConfig& checked(const LoopConfig& c, const EnvPool* envs) {
+  rl::validate(c.ppo);
+  if (!envs) throw std::invalid_argument("OuterLoop: no environments");
+  const int decisions = c.task.episode_steps / c.task.action_hold_steps;
+  if (c.ppo.n_steps != decisions)
+    throw std::invalid_argument("OuterLoop: ppo.n_steps (" + std::to_string(c.ppo.n_steps) +
+                                ") must equal the decisions per episode (" + std::to_string(decisions) + ")");
+  if (static_cast<int>(envs->size()) != c.codesign.designs_per_update)
+    throw std::invalid_argument("OuterLoop: one environment per sampled design expected");
+  return c;
+}
+
+}  // namespace
+
+DistributionConfig distribution_config(const CodesignConfig& c, const TaskConfig& task) {
+  DistributionConfig d;
+  d.exploration_end = c.exploration_end;
+  d.exploitation_start = c.exploitation_start;
+  d.alpha = c.alpha;
+  d.phi = c.phi;
+  d.beta_start = c.beta_start;
+  d.beta_end = c.beta_end;
+  d.reward_buffer = c.reward_buffer;
+  d.pressure_max_kPa = task.pressure_max_kPa;
+  d.latent_mu0 = c.latent_mu0;
+  d.latent_sigma0 = c.latent_sigma0;
+  d.latent_sigma_min = c.latent_sigma_min;
+  return d;
+}
+
+std::vector<int> design_chambers() {
+  std::vector<int> n(fem::kDesignCount);
+  for (int j = 0; j < fem::kDesignCount; ++j) n[j] = fem::design_from_index(j).n;
+  return n;
+}
+
+OuterLoop::OuterLoop(const LoopConfig& config, std::unique_ptr<EnvPool> envs)
+    : config_(checked(config, envs.get())),
+      envs_(std::move(envs)),
+      model_(static_cast<int>(envs_->spec().observation.dim()), static_cast<int>(envs_->spec().action.dim()),
+             config_.ppo.actor_hidden, config_.ppo.critic_hidden, static_cast<float>(config_.ppo.log_std_init)),
+      optimizer_(rl::make_adam(config_.ppo)),
+      buffer_(config_.ppo.n_steps, static_cast<int>(envs_->size()), static_cast<int>(envs_->spec().observation.dim()),
+              static_cast<int>(envs_->spec().action.dim())),
+      distribution_(distribution_config(config_.codesign, config_.task), design_chambers()) {
+  rl::Rng master(config_.codesign.seed);
+  rl::Rng init_rng = master.split();
+  act_rng_ = master.split();
+  update_rng_ = master.split();
+  design_rng_ = master.split();
+  model_.init_orthogonal(init_rng);
+  model_.set_matmul_precision(config_.ppo.matmul_precision);
+}
+
+std::vector<DesignSample> OuterLoop::sample_designs(std::vector<EpisodeSetup>& setups) {
+  const CodesignConfig& c = config_.codesign;
+  std::vector<DesignSample> samples;
+  setups.clear();
+  for (std::size_t i = 0; i < envs_->size(); ++i) {
+    DesignSample d = distribution_.sample(t_, design_rng_);  // always drawn: one RNG stream
+    if (c.baseline == Baseline::SingleDesign) {
+      d.design = c.single_design_index;
+      d.pressures_kPa = {c.single_design_p1_kPa, fem::design_from_index(d.design).n >= 2 ? c.single_design_p2_kPa : 0.0};
+    }
+    const double u = design_rng_.uniform();
+    const double phase = c.random_plate_phase ? 2.0 * std::numbers::pi * u : c.plate_phase_rad;
+    setups.push_back({d.design, d.pressures_kPa[0], d.pressures_kPa[1], phase});
+    samples.push_back(d);
+  }
+  return samples;
+}
+
+IterationReport OuterLoop::iterate() {
+  IterationReport rep;
+  rep.k = k_;
+  rep.phase = distribution_.phase(t_);
+  inference_.weights_changed();
+  const auto t_collect = std::chrono::steady_clock::now();
+  std::vector<EpisodeSetup> setups;
+  rep.samples = sample_designs(setups);
+  const auto n = static_cast<Eigen::Index>(envs_->size());
+  const double gamma = config_.ppo.gamma;
+  Eigen::MatrixXd obs = envs_->start(setups);
+  buffer_.reset();
+  Eigen::RowVectorXf episode_starts = Eigen::RowVectorXf::Ones(n);
+  Eigen::RowVectorXf dones = Eigen::RowVectorXf::Zero(n);
+  Eigen::RowVectorXf rewards(n);
+  std::vector<double> running(n, 0.0);
+  std::vector<int> length(n, 0);
+  std::vector<char> first_done(n, 0);
+  const rl::BoxSpec& bounds = envs_->spec().action;
+  for (int step = 0; step < config_.ppo.n_steps; ++step) {
+    const bool last = step + 1 == config_.ppo.n_steps;
+    const Eigen::MatrixXf obs_f = obs.cast<float>();
+    const auto t_pol = std::chrono::steady_clock::now();
+    rl::ActorCritic::ActResult act = model_.act(obs_f, act_rng_, inference_);
+    rep.policy_s += seconds_since(t_pol);
+    const rl::VecStepResult& r = envs_->step(rl::clip_actions(act.actions.cast<double>(), bounds), !last);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto iu = static_cast<std::size_t>(i);
+      double reward = r.rewards(i);
+      running[iu] += reward;
+      length[iu] += 1;
+      const bool done = r.done(iu);
+      dones(i) = done ? 1.0f : 0.0f;
+      if (done || last) {
+        EpisodeRecord e;
+        e.env = static_cast<int>(i);
+        e.setup = setups[iu];
+        e.episode_return = running[iu];
+        e.decisions = length[iu];
+        e.in_band = done ? envs_->last_in_band(iu) : -1;
+        e.reason = done ? r.reasons[iu] : "rollout_end";
+        e.first = !first_done[iu];
+        first_done[iu] = 1;
+        rep.episodes.push_back(std::move(e));
+        running[iu] = 0.0;
+        length[iu] = 0;
+      }
+      if (done && r.truncated[iu] && !r.terminated[iu] && r.terminal_obs[iu]) {
+        const auto t_pol2 = std::chrono::steady_clock::now();
+        const Eigen::MatrixXf terminal = r.terminal_obs[iu]->cast<float>();
+        reward += gamma * static_cast<double>(model_.value(terminal, inference_)(0));
+        rep.policy_s += seconds_since(t_pol2);
+      }
+      rewards(i) = static_cast<float>(reward);
+    }
+    buffer_.add(obs_f, act.actions, rewards, episode_starts, act.values, act.log_probs);
+    obs = r.obs;
+    episode_starts = dones;
+  }
+  {
+    const auto t_pol = std::chrono::steady_clock::now();
+    const Eigen::MatrixXf last_obs = obs.cast<float>();
+    buffer_.compute_returns_and_advantage(model_.value(last_obs, inference_), dones, gamma, config_.ppo.gae_lambda);
+    rep.policy_s += seconds_since(t_pol);
+  }
+  t_ += static_cast<std::int64_t>(n) * config_.ppo.n_steps;
+  rep.collect_s = seconds_since(t_collect);
+
+  const auto t_update = std::chrono::steady_clock::now();
+  rep.ppo = rl::ppo_update(model_, optimizer_, buffer_, config_.ppo, t_, update_rng_);
+  rep.learning_rate = config_.ppo.learning_rate;
+  rep.update_s = seconds_since(t_update);
+
+  const auto t_dist = std::chrono::steady_clock::now();
+  std::vector<double> returns(static_cast<std::size_t>(n), 0.0);
+  for (const EpisodeRecord& e : rep.episodes)
+    if (e.first) returns[static_cast<std::size_t>(e.env)] = e.episode_return;
+  if (config_.codesign.baseline != Baseline::SingleDesign) distribution_.update(rep.samples, returns, t_);
+  rep.distribution_s = seconds_since(t_dist);
+  rep.beta = distribution_.beta(t_);
+  rep.t = t_;
+  ++k_;
+  return rep;
+}
+
+LoopState OuterLoop::state() const {
+  LoopState s;
+  s.k = k_;
+  s.t = t_;
+  s.actor = model_.actor().params();
+  s.critic = model_.critic().params();
+  s.log_std = model_.log_std();
+  s.adam_steps = optimizer_.step_count();
+  for (std::size_t i = 0; i < optimizer_.block_count(); ++i) {
+    s.adam_m.push_back(optimizer_.first_moment(i));
+    s.adam_v.push_back(optimizer_.second_moment(i));
+  }
+  s.rng_act = act_rng_.save();
+  s.rng_update = update_rng_.save();
+  s.rng_design = design_rng_.save();
+  s.distribution = distribution_.state();
+  return s;
+}
+
+void OuterLoop::restore(const LoopState& s) {
+  if (s.actor.size() != model_.actor().num_params() || s.critic.size() != model_.critic().num_params() ||
+      s.log_std.size() != model_.log_std().size())
+    throw std::invalid_argument("network sizes differ from this config's (" +
+                                std::to_string(model_.actor().num_params()) + " actor, " +
+                                std::to_string(model_.critic().num_params()) + " critic parameters)");
+  if (s.k < 0 || s.t < 0) throw std::invalid_argument("negative iteration or timestep count");
+  rl::Rng a, u, d;
+  if (!a.restore(s.rng_act) || !u.restore(s.rng_update) || !d.restore(s.rng_design))
+    throw std::invalid_argument("random generator state unreadable");
+  DesignDistribution dist(distribution_config(config_.codesign, config_.task), design_chambers(), s.distribution);
+  rl::Adam opt = rl::make_adam(config_.ppo);
+  opt.restore(s.adam_steps, s.adam_m, s.adam_v);
+  if (!s.adam_m.empty()) {
+    const std::vector<rl::AdamBlock<float>> blocks = model_.adam_blocks(model_.zero_grad());
+    bool same = blocks.size() == s.adam_m.size();
+    for (std::size_t i = 0; same && i < blocks.size(); ++i) same = blocks[i].size == s.adam_m[i].size();
+    if (!same) throw std::invalid_argument("optimiser state does not match the networks");
+  }
+  model_.actor().params() = s.actor;
+  model_.critic().params() = s.critic;
+  model_.log_std() = s.log_std;
+  optimizer_ = std::move(opt);
+  act_rng_ = a;
+  update_rng_ = u;
+  design_rng_ = d;
+  distribution_ = std::move(dist);
+  k_ = s.k;
+  t_ = s.t;
+  inference_.weights_changed();
+}
+
+}  // namespace codesign::coopt

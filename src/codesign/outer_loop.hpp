@@ -1,0 +1,118 @@
+#pragma once
+// Algorithm 1 of the paper: co-optimisation of design and control.
+//
+// One iteration k (iterate()):
+//   1. sample ψ designs d_i = (j_i, p_i) from q_φ (DesignDistribution::sample; the single-design
+//      baseline uses its fixed design instead) and a plate phase per environment;
+//   2. deploy: one episode per environment, n_steps = decisions per episode (an environment whose
+//      episode ends early restarts with the same design until the rollout is full), storing the
+//      transitions in the rollout buffer with SB3's semantics (unclipped actions, timeout
+//      bootstrapping), then GAE;
+//   3. one PPO update on the ψ × n_steps transitions;
+//   4. the return of each environment's first episode, R_{d_i}, feeds Algorithm 2;
+//   5. t += ψ · n_steps, k += 1.
+// The run ends when t ≥ total_timesteps. Everything that defines the future of the loop is in
+// LoopState (checkpoint.hpp writes it): restoring it and iterating gives bit-identical results.
+//
+// Random streams, all split from Rng(seed) in this order: network init, action sampling,
+// minibatch shuffling, design sampling (designs and plate phases).
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "codesign/codesign_config.hpp"
+#include "codesign/design_distribution.hpp"
+#include "codesign/env_pool.hpp"
+#include "codesign/task_config.hpp"
+#include "rl/actor_critic.hpp"
+#include "rl/adam.hpp"
+#include "rl/ppo.hpp"
+#include "rl/rng.hpp"
+#include "rl/rollout_buffer.hpp"
+
+namespace codesign::coopt {
+
+struct LoopConfig {
+  TaskConfig task;
+  CodesignConfig codesign;
+  rl::PpoConfig ppo;
+};
+
+// The distribution settings of a co-design config.
+DistributionConfig distribution_config(const CodesignConfig& c, const TaskConfig& task);
+// Chambers of each of the 110 designs.
+std::vector<int> design_chambers();
+
+// One finished (or, at the end of a rollout, cut) episode of an iteration.
+struct EpisodeRecord {
+  int env = 0;
+  EpisodeSetup setup;
+  double episode_return = 0.0;
+  int decisions = 0;
+  int in_band = 0;
+  std::string reason;        // termination/truncation reason, or "rollout_end" if cut
+  bool first = false;        // the environment's first episode of the iteration (fed to Alg. 2)
+};
+
+struct IterationReport {
+  int k = 0;                       // iteration index (0-based) just completed
+  std::int64_t t = 0;              // timesteps after it
+  Phase phase = Phase::Exploration;  // phase the designs were sampled in
+  double beta = 0.0;               // β(t) after the update
+  std::vector<DesignSample> samples;
+  std::vector<EpisodeRecord> episodes;
+  rl::PpoStats ppo;
+  double learning_rate = 0.0;
+  double collect_s = 0.0, update_s = 0.0, distribution_s = 0.0;
+  double policy_s = 0.0;           // part of collect_s spent in the policy (act/value)
+};
+
+// Everything that defines the loop's future (see checkpoint.hpp).
+struct LoopState {
+  int k = 0;
+  std::int64_t t = 0;
+  Eigen::VectorXf actor, critic, log_std;
+  std::int64_t adam_steps = 0;
+  std::vector<Eigen::VectorXf> adam_m, adam_v;
+  std::string rng_act, rng_update, rng_design;
+  DistributionState distribution;
+};
+
+class OuterLoop {
+ public:
+  OuterLoop(const LoopConfig& config, std::unique_ptr<EnvPool> envs);
+
+  IterationReport iterate();
+  bool finished() const { return t_ >= config_.codesign.total_timesteps; }
+
+  LoopState state() const;
+  // Throws std::invalid_argument if the state does not fit this loop's sizes.
+  void restore(const LoopState& s);
+
+  const LoopConfig& config() const { return config_; }
+  const rl::ActorCritic& model() const { return model_; }
+  const DesignDistribution& distribution() const { return distribution_; }
+  DesignDistribution& distribution() { return distribution_; }
+  std::int64_t timesteps() const { return t_; }
+  int iteration() const { return k_; }
+  EnvPool& envs() { return *envs_; }
+
+ private:
+  std::vector<DesignSample> sample_designs(std::vector<EpisodeSetup>& setups);
+
+  LoopConfig config_;
+  std::unique_ptr<EnvPool> envs_;
+  rl::ActorCritic model_;
+  rl::Adam optimizer_;
+  rl::RolloutBuffer buffer_;
+  rl::Rng act_rng_, update_rng_, design_rng_;
+  rl::ActorCritic::InferenceCache inference_;
+  DesignDistribution distribution_;
+  int k_ = 0;
+  std::int64_t t_ = 0;
+};
+
+}  // namespace codesign::coopt

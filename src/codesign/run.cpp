@@ -1,0 +1,329 @@
+#include "codesign/run.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numeric>
+#include <optional>
+#include <sstream>
+
+#include <unistd.h>
+
+#include "base/errors.hpp"
+#include "codesign/checkpoint.hpp"
+#include "codesign/evaluation.hpp"
+#include "fem/design.hpp"
+#include "io/atomic_file.hpp"
+#include "io/csv_log.hpp"
+#include "rl/policy_file.hpp"
+
+namespace codesign::coopt {
+
+namespace {
+
+namespace fs = std::filesystem;
+using io::CsvLog;
+
+std::string num(double v) { return CsvLog::num(v); }
+std::string num(std::int64_t v) { return CsvLog::num(v); }
+std::string num(int v) { return CsvLog::num(static_cast<std::int64_t>(v)); }
+
+std::string design_label(int j) {
+  const fem::Design d = fem::design_from_index(j);
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "j%d {%d, %g mm, %g mm}", j, d.n, d.chamber_length_mm, d.wall_mm);
+  return buf;
+}
+
+std::string duration(double s) {
+  if (!std::isfinite(s) || s < 0) return "?";
+  char buf[32];
+  const auto total = static_cast<long>(s + 0.5);
+  if (total >= 3600)
+    std::snprintf(buf, sizeof buf, "%ldh%02ldm", total / 3600, (total / 60) % 60);
+  else
+    std::snprintf(buf, sizeof buf, "%ldm%02lds", total / 60, total % 60);
+  return buf;
+}
+
+// The run's logs, created or resumed together.
+struct Logs {
+  static std::vector<std::string> q_columns() {
+    std::vector<std::string> c{"k", "t"};
+    for (int j = 0; j < fem::kDesignCount; ++j) {
+      std::string name = "q";  // (not "q" + to_string: GCC 12 reports a false -Wrestrict)
+      name += std::to_string(j);
+      c.push_back(std::move(name));
+    }
+    return c;
+  }
+  Logs(const fs::path& dir, const std::map<std::string, std::uint64_t>* resume)
+      : episodes(open(dir, "episodes.csv",
+                      {"t", "k", "j", "n", "l_mm", "w_mm", "p1_kPa", "p2_kPa", "phase_rad", "return", "decisions",
+                       "in_band", "first", "reason"},
+                      resume)),
+        ppo(open(dir, "ppo.csv",
+                 {"k", "t", "pg_loss", "value_loss", "entropy_loss", "loss", "approx_kl", "clip_fraction",
+                  "explained_variance", "lr", "ent_coef", "epochs", "early_stopped", "grad_norm", "collect_s",
+                  "update_s", "policy_s", "steps_per_s"},
+                 resume)),
+        distribution(open(dir, "distribution.csv",
+                          {"k", "t", "phase", "beta", "entropy", "top1_j", "top1_q", "top2_j", "top2_q", "top3_j",
+                           "top3_q", "best_j", "best_score", "best_mu1_kPa", "best_mu2_kPa", "best_sigma1_kPa",
+                           "best_sigma2_kPa"},
+                          resume)),
+        q(open(dir, "q_disc.csv", q_columns(), resume)),
+        sampled(open(dir, "sampled.csv",
+                     {"k", "t", "i", "j", "p1_kPa", "p2_kPa", "return", "mu1_kPa", "mu2_kPa", "sigma1_kPa",
+                      "sigma2_kPa"},
+                     resume)) {}
+
+  static std::unique_ptr<CsvLog> open(const fs::path& dir, const std::string& name,
+                                      const std::vector<std::string>& columns,
+                                      const std::map<std::string, std::uint64_t>* resume) {
+    std::optional<std::uint64_t> at;
+    if (resume) {
+      const auto it = resume->find(name);
+      if (it == resume->end()) throw InputError("checkpoint: has no position for " + name);
+      at = it->second;
+    }
+    return std::make_unique<CsvLog>((dir / name).string(), columns, at);
+  }
+
+  std::map<std::string, std::uint64_t> flush() {
+    return {{"episodes.csv", episodes->flush()},
+            {"ppo.csv", ppo->flush()},
+            {"distribution.csv", distribution->flush()},
+            {"q_disc.csv", q->flush()},
+            {"sampled.csv", sampled->flush()}};
+  }
+
+  std::unique_ptr<CsvLog> episodes, ppo, distribution, q, sampled;
+};
+
+void log_iteration(Logs& logs, const IterationReport& rep, const DesignDistribution& dist, double steps_per_s) {
+  for (const EpisodeRecord& e : rep.episodes) {
+    const fem::Design d = fem::design_from_index(e.setup.design);
+    logs.episodes->row({num(rep.t), num(rep.k), num(e.setup.design), num(d.n), num(d.chamber_length_mm),
+                        num(d.wall_mm), num(e.setup.p1_kPa), num(e.setup.p2_kPa), num(e.setup.plate_phase_rad),
+                        num(e.episode_return), num(e.decisions), num(e.in_band), num(e.first ? 1 : 0), e.reason});
+  }
+  const rl::PpoStats& p = rep.ppo;
+  logs.ppo->row({num(rep.k), num(rep.t), num(p.pg_loss), num(p.value_loss), num(p.entropy_loss), num(p.loss),
+                 num(p.approx_kl), num(p.clip_fraction), num(p.explained_variance), num(rep.learning_rate),
+                 num(p.ent_coef), num(p.epochs_done), num(p.early_stopped ? 1 : 0), num(p.grad_norm),
+                 num(rep.collect_s), num(rep.update_s), num(rep.policy_s), num(steps_per_s)});
+  const Eigen::VectorXd q = dist.probabilities(rep.t);
+  std::vector<int> order(static_cast<std::size_t>(q.size()));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return q[a] > q[b]; });
+  const int best = dist.state().collapsed ? dist.state().best_design : dist.ranking().front();
+  const Eigen::Vector2d mu = dist.mean_pressures_kPa(best), sg = dist.sigma_pressures_kPa(best);
+  logs.distribution->row({num(rep.k), num(rep.t), to_string(dist.phase(rep.t)), num(rep.beta), num(dist.entropy(rep.t)),
+                          num(order[0]), num(q[order[0]]), num(order[1]), num(q[order[1]]), num(order[2]),
+                          num(q[order[2]]), num(best), num(dist.state().score[best]), num(mu[0]), num(mu[1]),
+                          num(sg[0]), num(sg[1])});
+  std::vector<std::string> row{num(rep.k), num(rep.t)};
+  for (Eigen::Index j = 0; j < q.size(); ++j) row.push_back(num(q[j]));
+  logs.q->row(row);
+  std::vector<double> first_return(rep.samples.size(), 0.0);
+  for (const EpisodeRecord& e : rep.episodes)
+    if (e.first) first_return[static_cast<std::size_t>(e.env)] = e.episode_return;
+  for (std::size_t i = 0; i < rep.samples.size(); ++i) {
+    const DesignSample& s = rep.samples[i];
+    const Eigen::Vector2d m = dist.mean_pressures_kPa(s.design), sd = dist.sigma_pressures_kPa(s.design);
+    logs.sampled->row({num(rep.k), num(rep.t), num(static_cast<std::int64_t>(i)), num(s.design),
+                       num(s.pressures_kPa[0]), num(s.pressures_kPa[1]), num(first_return[i]), num(m[0]), num(m[1]),
+                       num(sd[0]), num(sd[1])});
+  }
+}
+
+void write_eval(const fs::path& dir, const std::string& which, const DesignEvaluation& e) {
+  fs::create_directories(dir);
+  io::write_file_atomically((dir / (which + ".csv")).string(), [&](std::ostream& out) {
+    out << "episode,phase_rad,return,decisions,band_fraction,reason\n";
+    for (std::size_t k = 0; k < e.returns.size(); ++k)
+      out << k << ',' << num(evaluation_phase(static_cast<int>(k), static_cast<int>(e.returns.size()))) << ','
+          << num(e.returns[k]) << ',' << e.decisions[k] << ',' << num(e.band_fraction[k]) << ',' << e.reasons[k]
+          << '\n';
+  });
+  io::write_file_atomically((dir / (which + "_trace.csv")).string(), [&](std::ostream& out) {
+    out << "decision,t_s,theta_rad,F_mN,strain,tip_x_mm,tip_y_mm,tip_z_mm,plate_z_mm,action\n";
+    for (const TraceRow& r : e.trace)
+      out << r.decision << ',' << num(r.t_s) << ',' << num(r.theta_rad) << ',' << num(r.force_mN) << ','
+          << num(r.strain) << ',' << num(r.tip_mm.x()) << ',' << num(r.tip_mm.y()) << ',' << num(r.tip_mm.z()) << ','
+          << num(r.plate_z_mm) << ',' << num(r.action) << '\n';
+  });
+}
+
+void toml_design(std::ostream& out, const std::string& section, const DesignEvaluation& e, int episodes) {
+  const fem::Design d = fem::design_from_index(e.setup.design);
+  out << "[" << section << "]\n"
+      << "design = " << e.setup.design << "\n"
+      << "n = " << d.n << "\n"
+      << "l_mm = " << num(d.chamber_length_mm) << "\n"
+      << "w_mm = " << num(d.wall_mm) << "\n"
+      << "pressures_kPa = [" << num(e.setup.p1_kPa) << ", " << num(e.setup.p2_kPa) << "]\n"
+      << "test_return = " << num(e.mean_return) << "   # mean over the evaluation episodes\n"
+      << "test_return_std = " << num(e.std_return) << "\n"
+      << "test_episodes = " << episodes << "\n"
+      << "band_fraction = " << num(e.mean_band_fraction) << "   # decisions with F inside the band\n\n";
+}
+
+}  // namespace
+
+RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const fs::path dir(options.dir);
+  const fs::path ckpt_path = dir / "checkpoint.bin";
+  const std::uint64_t fp = fingerprint(settings.config_text);
+  std::optional<Checkpoint> ckpt;
+  std::error_code ec;
+  if (options.resume) {
+    if (!fs::exists(ckpt_path, ec))
+      throw InputError(dir.string() + ": no checkpoint.bin to resume from (start the run without --resume)");
+    ckpt = load_checkpoint(ckpt_path.string(), fp);
+  } else {
+    for (const char* f : {"config.toml", "checkpoint.bin", "result.toml", "episodes.csv"})
+      if (fs::exists(dir / f, ec) && !options.force)
+        throw InputError(dir.string() + ": already holds " + f + " of an earlier run; continue it with --resume, "
+                         "or choose another -o, or pass --force to start afresh");
+    fs::create_directories(dir, ec);
+    if (ec) throw InputError(dir.string() + ": cannot create the run folder: " + ec.message());
+    for (const char* f : {"checkpoint.bin", "result.toml", "policy.bin"}) fs::remove(dir / f, ec);
+    io::write_file_atomically((dir / "config.toml").string(), [&](std::ostream& out) { out << settings.config_text; });
+  }
+
+  auto sims = std::make_shared<SimulatorPool>(settings.spec, settings.scene, settings.solver);
+  const LoopConfig& lc = settings.loop;
+  auto envs = std::make_unique<ThreadEnvPool>(sims, lc.task, static_cast<std::size_t>(lc.codesign.designs_per_update),
+                                              options.threads);
+  OuterLoop loop(lc, std::move(envs));
+  double wall_before = 0.0;
+  if (ckpt) {
+    try {
+      loop.restore(ckpt->loop);
+    } catch (const std::invalid_argument& e) {
+      throw InputError("checkpoint " + ckpt_path.string() + ": " + e.what());
+    }
+    wall_before = ckpt->wall_s;
+  }
+  Logs logs(dir, ckpt ? &ckpt->logs : nullptr);
+
+  const CodesignConfig& c = lc.codesign;
+  const std::int64_t T = c.total_timesteps;
+  const std::int64_t t0 = loop.timesteps();
+  const bool tty = options.progress && ::isatty(::fileno(stdout));
+  double last_print = -1e9;
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(); };
+  auto checkpoint = [&] {
+    Checkpoint k;
+    k.config_fingerprint = fp;
+    k.wall_s = wall_before + elapsed();
+    k.loop = loop.state();
+    k.logs = logs.flush();
+    save_checkpoint(ckpt_path.string(), k);
+  };
+  std::int64_t last_ckpt = loop.timesteps();
+  RunResult result;
+  while (!loop.finished()) {
+    const IterationReport rep = loop.iterate();
+    const double el = elapsed();
+    const double rate = static_cast<double>(rep.t - t0) / std::max(el, 1e-9);
+    log_iteration(logs, rep, loop.distribution(), rate);
+    if (rep.t - last_ckpt >= c.checkpoint_every || loop.finished()) {
+      checkpoint();
+      last_ckpt = rep.t;
+    }
+    if (options.progress && (el - last_print >= (tty ? 0.5 : 10.0) || loop.finished())) {
+      last_print = el;
+      const DesignDistribution& d = loop.distribution();
+      const int best = d.state().collapsed ? d.state().best_design : d.ranking().front();
+      double mean_first = 0.0;
+      int nfirst = 0;
+      for (const EpisodeRecord& e : rep.episodes)
+        if (e.first) mean_first += e.episode_return, ++nfirst;
+      std::printf("%st %lld/%lld (%.1f%%) | %.0f steps/s | ETA %s | %s | mean return %.2f | best %s R^ %.2f%s",
+                  tty ? "\r" : "", static_cast<long long>(rep.t), static_cast<long long>(T),
+                  100.0 * static_cast<double>(rep.t) / static_cast<double>(T), rate,
+                  duration(static_cast<double>(T - rep.t) / std::max(rate, 1e-9)).c_str(), to_string(d.phase(rep.t)),
+                  mean_first / std::max(1, nfirst), design_label(best).c_str(), d.state().score[best],
+                  tty ? "   " : "\n");
+      std::fflush(stdout);
+    }
+    if (options.stop_after >= 0 && rep.t >= options.stop_after && !loop.finished()) {
+      checkpoint();
+      result.timesteps = rep.t;
+      result.wall_s = elapsed();
+      return result;
+    }
+  }
+  if (tty) std::printf("\n");
+  if (last_ckpt != loop.timesteps()) checkpoint();
+
+  // ---- final evaluation: d* and the runner-up with the deterministic final policy
+  const DesignDistribution& dist = loop.distribution();
+  EpisodeSetup best, runner;
+  bool has_runner = true;
+  if (c.baseline == Baseline::SingleDesign) {
+    best = {c.single_design_index, c.single_design_p1_kPa,
+            fem::design_from_index(c.single_design_index).n >= 2 ? c.single_design_p2_kPa : 0.0, 0.0, 0.0};
+    has_runner = false;
+  } else {
+    const std::vector<int> rank = dist.ranking();
+    const int jb = dist.state().collapsed ? dist.state().best_design : rank[0];
+    const Eigen::Vector2d pb = dist.state().collapsed ? dist.pressures_kPa(dist.state().best_latent, jb)
+                                                      : dist.mean_pressures_kPa(jb);
+    best = {jb, pb[0], pb[1], 0.0, 0.0};
+    const int jr = rank[0] == jb ? rank[1] : rank[0];
+    const Eigen::Vector2d pr = dist.mean_pressures_kPa(jr);
+    runner = {jr, pr[0], pr[1], 0.0, 0.0};
+  }
+  const rl::ActorCritic& model = loop.model();
+  const Controller policy = [&model](const Eigen::VectorXd& obs) {
+    const Eigen::VectorXf o = obs.cast<float>();
+    return static_cast<double>(model.deterministic_action(o)(0));
+  };
+  EvaluationOptions eo;
+  eo.episodes = c.eval_episodes;
+  eo.threads = options.threads;
+  const DesignEvaluation eb = evaluate_design(policy, sims, lc.task, best, eo);
+  write_eval(dir / "eval", "best", eb);
+  std::optional<DesignEvaluation> er;
+  if (has_runner) {
+    er = evaluate_design(policy, sims, lc.task, runner, eo);
+    write_eval(dir / "eval", "runner_up", *er);
+  }
+  rl::save_policy(dir / "policy.bin", model);
+  result.wall_s = elapsed();
+  const double wall_total = wall_before + result.wall_s;
+  io::write_file_atomically((dir / "result.toml").string(), [&](std::ostream& out) {
+    out << "# codesign result: d* and the runner-up, each evaluated with the deterministic final policy over "
+        << c.eval_episodes << " episodes\n# (plate phases 2*pi*(k + 1/2)/" << c.eval_episodes << ").\n\n";
+    toml_design(out, "best", eb, c.eval_episodes);
+    if (er) toml_design(out, "runner_up", *er, c.eval_episodes);
+    out << "[run]\n"
+        << "timesteps = " << loop.timesteps() << "\n"
+        << "iterations = " << loop.iteration() << "\n"
+        << "seed = " << c.seed << "\n"
+        << "observation = \"" << to_string(lc.task.observation) << "\"\n"
+        << "baseline = \"" << (c.baseline == Baseline::SingleDesign ? "single_design" : "none") << "\"\n"
+        << "wall_s = " << num(wall_total) << "   # wall-clock: the only field that differs between reruns\n";
+  });
+  std::printf("codesign: d* = %s, p* = [%.4g, %.4g] kPa: test return %.2f +- %.2f over %d episodes (band %.0f%%)\n",
+              design_label(best.design).c_str(), best.p1_kPa, best.p2_kPa, eb.mean_return, eb.std_return,
+              c.eval_episodes, 100.0 * eb.mean_band_fraction);
+  if (er)
+    std::printf("codesign: runner-up %s, p = [%.4g, %.4g] kPa: test return %.2f +- %.2f (band %.0f%%)\n",
+                design_label(runner.design).c_str(), runner.p1_kPa, runner.p2_kPa, er->mean_return, er->std_return,
+                100.0 * er->mean_band_fraction);
+  std::printf("codesign: %lld timesteps in %s -> %s\n", static_cast<long long>(loop.timesteps()),
+              duration(wall_total).c_str(), (dir / "result.toml").string().c_str());
+  result.completed = true;
+  result.timesteps = loop.timesteps();
+  return result;
+}
+
+}  // namespace codesign::coopt

@@ -1,0 +1,56 @@
+#pragma once
+// A whole co-design run in a run folder: Algorithm 1 with checkpoints and logs, then the
+// evaluation of d* and the runner-up, then result.toml and policy.bin.
+//
+// Run folder (DIR):
+//   config.toml        the config the run was started with (verbatim; resuming checks it)
+//   episodes.csv       every episode of training (first = the one fed to Algorithm 2)
+//   ppo.csv            one row per PPO update
+//   distribution.csv   one row per distribution update: phase, β, entropy, top designs, best
+//   q_disc.csv         the 110 probabilities per update
+//   sampled.csv        the sampled designs per update with μ, σ (kPa) of their q_cont after it
+//   checkpoint.bin     everything needed to resume (checkpoint.hpp), written atomically
+//   policy.bin         the final policy (rl/policy_file.hpp)
+//   result.toml        [best], [runner_up], [run]
+//   eval/<which>.csv   per-episode results of the final evaluation; eval/<which>_trace.csv the
+//                      per-step trace of its first episode
+// Resuming (options.resume) continues from checkpoint.bin: logs are cut back to the lengths
+// they had at the checkpoint, and the run ends with the same policy.bin and result.toml as an
+// uninterrupted run (wall-clock fields aside).
+#include <cstddef>
+#include <functional>
+#include <string>
+
+#include "codesign/outer_loop.hpp"
+#include "fem/simulator.hpp"
+#include "fem/whisker_model.hpp"
+
+namespace codesign::coopt {
+
+struct RunSettings {
+  fem::WhiskerModelSpec spec;
+  fem::SceneConfig scene;
+  fem::SolverConfig solver;
+  LoopConfig loop;
+  std::string config_text;   // the config file's text (copied to config.toml, fingerprinted)
+};
+
+struct RunOptions {
+  std::string dir;
+  bool resume = false;
+  bool force = false;           // start afresh even if DIR holds an earlier run
+  std::size_t threads = 0;      // rollout and evaluation threads (0: all cores)
+  bool progress = true;         // progress line on stdout
+  // Stop (as if killed, after the iteration that reaches it) once t ≥ stop_after; for tests.
+  std::int64_t stop_after = -1;
+};
+
+struct RunResult {
+  bool completed = false;       // false: stopped by stop_after
+  double wall_s = 0.0;
+  std::int64_t timesteps = 0;
+};
+
+RunResult run_codesign(const RunSettings& settings, const RunOptions& options);
+
+}  // namespace codesign::coopt

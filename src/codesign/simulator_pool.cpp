@@ -1,0 +1,62 @@
+#include "codesign/simulator_pool.hpp"
+
+#include <stdexcept>
+#include <string>
+
+#include "fem/design.hpp"
+
+namespace codesign::coopt {
+
+SimulatorPool::SimulatorPool(fem::WhiskerModelSpec spec, fem::SceneConfig scene, fem::SolverConfig solver)
+    : spec_(std::move(spec)), scene_(scene), solver_(solver) {
+  models_.resize(fem::kDesignCount);
+  free_.resize(fem::kDesignCount);
+  for (int j = 0; j < fem::kDesignCount; ++j) build_mutex_.push_back(std::make_unique<std::mutex>());
+}
+
+std::shared_ptr<const fem::Model> SimulatorPool::model(int design) {
+  if (design < 0 || design >= fem::kDesignCount)
+    throw std::out_of_range("SimulatorPool: design index " + std::to_string(design) + " outside 0..109");
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (models_[design]) return models_[design];
+  }
+  // One builder per design; other designs may build at the same time (gmsh itself serialises).
+  std::lock_guard<std::mutex> build(*build_mutex_[design]);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (models_[design]) return models_[design];
+  }
+  std::shared_ptr<const fem::Model> m = fem::build_whisker_model(design, spec_);
+  std::lock_guard<std::mutex> lock(mutex_);
+  models_[design] = m;
+  return m;
+}
+
+std::unique_ptr<fem::Simulator> SimulatorPool::acquire(int design) {
+  std::shared_ptr<const fem::Model> m = model(design);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto& list = free_[design];
+    if (!list.empty()) {
+      std::unique_ptr<fem::Simulator> s = std::move(list.back());
+      list.pop_back();
+      return s;
+    }
+    ++constructed_;
+  }
+  return std::make_unique<fem::Simulator>(std::move(m), scene_, solver_);
+}
+
+void SimulatorPool::release(int design, std::unique_ptr<fem::Simulator> sim) {
+  if (!sim) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  free_[design].push_back(std::move(sim));
+}
+
+int SimulatorPool::constructed() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return constructed_;
+}
+
+}  // namespace codesign::coopt

@@ -1,0 +1,172 @@
+#include "codesign/whisker_env.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "fem/design.hpp"
+
+namespace codesign::coopt {
+
+namespace {
+
+// x ∈ [lo, hi] → [−1, 1], clipped to ±kObservationClip.
+double scaled(double x, double lo, double hi) {
+  const double s = 2.0 * (x - lo) / (hi - lo) - 1.0;
+  return std::clamp(s, -kObservationClip, kObservationClip);
+}
+
+rl::EnvSpec make_spec(ObservationSet set) {
+  const auto n = static_cast<Eigen::Index>(observation_dim(set));
+  rl::EnvSpec s;
+  s.observation.low = Eigen::VectorXd::Constant(n, -kObservationClip);
+  s.observation.high = Eigen::VectorXd::Constant(n, kObservationClip);
+  s.action.low = Eigen::VectorXd::Constant(1, -1.0);
+  s.action.high = Eigen::VectorXd::Constant(1, 1.0);
+  return s;
+}
+
+}  // namespace
+
+double force_reward(double force_mN, const TaskConfig& task) {
+  const double delta = std::abs(force_mN - task.target_force_mN) / (task.tolerance_fraction * task.target_force_mN);
+  if (!(delta < 1.0)) return 0.0;
+  return std::pow(0.5 * (1.0 + std::cos(std::numbers::pi * delta)), task.kappa);
+}
+
+bool in_band(double force_mN, const TaskConfig& task) {
+  return std::abs(force_mN - task.target_force_mN) < task.tolerance_fraction * task.target_force_mN;
+}
+
+int observation_dim(ObservationSet set) {
+  switch (set) {
+    case ObservationSet::Paper: return 6;
+    case ObservationSet::Proprioceptive: return 7;
+    case ObservationSet::NoFeedback: return 2;
+  }
+  return 0;
+}
+
+WhiskerEnv::WhiskerEnv(std::shared_ptr<SimulatorPool> pool, const TaskConfig& task)
+    : pool_(std::move(pool)), task_(task), spec_(make_spec(task.observation)) {
+  if (!pool_) throw std::invalid_argument("WhiskerEnv: no simulator pool");
+  if (task_.episode_steps % task_.action_hold_steps != 0)
+    throw std::invalid_argument("WhiskerEnv: action_hold_steps must divide episode_steps");
+}
+
+WhiskerEnv::~WhiskerEnv() {
+  if (sim_) pool_->release(sim_design_, std::move(sim_));
+}
+
+void WhiskerEnv::set_episode(const EpisodeSetup& setup) {
+  (void)fem::design_from_index(setup.design);  // throws std::out_of_range for a bad index
+  setup_ = setup;
+}
+
+int WhiskerEnv::decisions_per_episode() const { return task_.episode_steps / task_.action_hold_steps; }
+
+Eigen::VectorXd WhiskerEnv::reset(std::optional<std::uint64_t> /*seed*/) {
+  if (sim_design_ != setup_.design) {
+    if (sim_) pool_->release(sim_design_, std::move(sim_));
+    sim_ = pool_->acquire(setup_.design);
+    sim_design_ = setup_.design;
+  }
+  sim_->reset();
+  sim_->set_pressures_kPa(setup_.p1_kPa, setup_.p2_kPa);
+  sim_->set_plate_phase(setup_.plate_phase_rad);
+  if (setup_.theta0_rad != 0.0) sim_->set_base_angle(setup_.theta0_rad);
+  decision_ = 0;
+  in_band_ = 0;
+  last_dtheta_ = 0.0;
+  trace_.clear();
+  const auto t0 = std::chrono::steady_clock::now();
+  const fem::StepResult r = sim_->settle();
+  settle_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  reset_failure_ = r.ok() ? std::string() : std::string(fem::to_string(r.status)) + ": " + r.reason;
+  if (recording_ && r.ok()) record(0.0);
+  return observe();
+}
+
+Eigen::VectorXd WhiskerEnv::observe() const {
+  const fem::Design d = fem::design_from_index(setup_.design);
+  const std::array<double, 3> j = fem::normalised(d);
+  const fem::Sensors s = sim_->sensors();
+  const double pmax = task_.pressure_max_kPa;
+  const double p2 = d.n >= 2 ? setup_.p2_kPa : 0.0;
+  Eigen::VectorXd o(observation_dim(task_.observation));
+  switch (task_.observation) {
+    case ObservationSet::NoFeedback:
+      o << scaled(setup_.p1_kPa, 0.0, pmax), scaled(p2, 0.0, pmax);
+      break;
+    case ObservationSet::Paper:
+    case ObservationSet::Proprioceptive:
+      o.head<6>() << j[0], j[1], j[2], scaled(setup_.p1_kPa, 0.0, pmax), scaled(p2, 0.0, pmax),
+          scaled(s.axial_strain, task_.strain_min, task_.strain_max);
+      if (task_.observation == ObservationSet::Proprioceptive) {
+        const double lim = sim_->scene().theta_limit_deg * std::numbers::pi / 180.0;
+        o[6] = scaled(s.theta_rad, -lim, lim);
+      }
+      break;
+  }
+  if (!o.allFinite()) o.setZero();  // a failed state: the episode ends at this step anyway
+  return o;
+}
+
+void WhiskerEnv::record(double action) {
+  const fem::Sensors s = sim_->sensors();
+  trace_.push_back({decision_, s.time_s, s.theta_rad, s.contact_force_mN, s.axial_strain, s.tip_position_mm,
+                    s.plate_z_mm, action});
+}
+
+rl::StepResult WhiskerEnv::step(const Eigen::VectorXd& action) {
+  if (!sim_) throw std::logic_error("WhiskerEnv::step before reset");
+  rl::StepResult out;
+  if (!reset_failure_.empty()) {
+    out.obs = observe();
+    out.terminated = true;
+    out.reason = "numerical: settle: " + reset_failure_;
+    return out;
+  }
+  const double a = std::isfinite(action[0]) ? std::clamp(action[0], -1.0, 1.0) : 0.0;
+  const double dtheta = a * task_.theta_max_rad;
+  const int hold = task_.action_hold_steps;
+  sim_->set_base_angle_target(sim_->theta() + dtheta, hold);
+  for (int k = 0; k < hold; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const fem::StepResult r = sim_->step();
+    step_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!r.ok()) {
+      ++decision_;
+      out.obs = observe();
+      out.terminated = true;
+      out.reason = std::string("numerical: ") + fem::to_string(r.status) + ": " + r.reason;
+      return out;
+    }
+    if (recording_) record(a);
+  }
+  const fem::Sensors s = sim_->sensors();
+  const double r_f = force_reward(s.contact_force_mN, task_);
+  const double r_smooth = task_.smooth_penalty * std::abs(a);
+  const bool flip = dtheta != 0.0 && last_dtheta_ != 0.0 && (dtheta > 0.0) != (last_dtheta_ > 0.0);
+  out.reward = r_f - r_smooth - (flip ? task_.flip_penalty : 0.0);
+  last_dtheta_ = dtheta;
+  if (in_band(s.contact_force_mN, task_)) ++in_band_;
+  ++decision_;
+  out.obs = observe();
+  if (!s.in_contact) {
+    out.terminated = true;
+    out.reason = "lost_contact";
+  } else if (s.theta_extreme) {
+    out.terminated = true;
+    out.reason = "theta_limit";
+  }
+  if (decision_ >= decisions_per_episode()) {
+    out.truncated = true;
+    if (out.reason.empty()) out.reason = "time_limit";
+  }
+  return out;
+}
+
+}  // namespace codesign::coopt

@@ -1,0 +1,112 @@
+#pragma once
+// The whisker force-tracking MDP (paper §IV-A, §V-A; SPEC §3) as an rl::Env over fem::Simulator.
+//
+// Episode: the design and chamber pressures of the current EpisodeSetup, θ = 0, the body loaded
+// quasi-statically onto the plate (Simulator::settle), then `decisions` = episode_steps /
+// action_hold_steps decisions (50 by default). A decision a ∈ [−1, 1] (clipped here) changes
+// the base angle by Δθ = a·θ_max, spread evenly over the action_hold_steps simulation steps it
+// is held for. After the hold the contact force F is read and
+//   R = r_f − r_smooth − r_flip,  δ = |F − F_t| / (tol·F_t),
+//   r_f = (½(1 + cos πδ))^κ if δ < 1 else 0,  r_smooth = c_s |Δθ|/θ_max,
+//   r_flip = c_f when Δθ changes sign between consecutive decisions (both non-zero).
+// Termination (terminated = true): the tip lost contact with the plate (F = 0 after a
+// decision), |θ| past the scene's limit (fem::Sensors::theta_extreme: buckling territory), or a
+// numerical failure of the simulator (reason "numerical: <status>: <detail>"). Truncation at the
+// last decision (reason "time_limit"). An episode therefore returns at most `decisions`.
+//
+// Observation (ObservationSet), every component min–max scaled onto [−1, 1] by reference
+// ranges (ObservationRanges), clipped to ±kObservationClip:
+//   paper          {n, l, w, p1, p2, ε}        (6)  the paper's s = {j, p, ε}
+//   proprioceptive {n, l, w, p1, p2, ε, θ}     (7)  ours: the motor encoder's θ added
+//   no_feedback    {p1, p2}                    (2)  the paper's baseline: ε and morphology removed
+// The env draws no random numbers: the caller chooses design, pressures and plate phase
+// (EpisodeSetup) before reset(); reset()'s seed is ignored.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "codesign/simulator_pool.hpp"
+#include "codesign/task_config.hpp"
+#include "rl/env.hpp"
+
+namespace codesign::coopt {
+
+inline constexpr double kObservationClip = 3.0;
+
+struct EpisodeSetup {
+  int design = 21;
+  double p1_kPa = 0.0;
+  double p2_kPa = 0.0;          // ignored (0) for one-chamber designs
+  double plate_phase_rad = 0.0;
+  double theta0_rad = 0.0;      // base angle the episode starts (and settles) at
+};
+
+// One simulation step of an episode, for evaluation traces and renders.
+struct TraceRow {
+  int decision = 0;             // 0-based index of the decision this step belongs to
+  double t_s = 0.0;
+  double theta_rad = 0.0;
+  double force_mN = 0.0;
+  double strain = 0.0;
+  Eigen::Vector3d tip_mm = Eigen::Vector3d::Zero();
+  double plate_z_mm = 0.0;
+  double action = 0.0;          // the (clipped) action being applied
+};
+
+// r_f of SPEC §3 for a force F.
+double force_reward(double force_mN, const TaskConfig& task);
+// Whether F lies inside the ±tolerance band around the target.
+bool in_band(double force_mN, const TaskConfig& task);
+// Dimension of an observation set.
+int observation_dim(ObservationSet set);
+
+class WhiskerEnv final : public rl::Env {
+ public:
+  WhiskerEnv(std::shared_ptr<SimulatorPool> pool, const TaskConfig& task);
+  ~WhiskerEnv() override;
+
+  // Takes effect at the next reset().
+  void set_episode(const EpisodeSetup& setup);
+  const EpisodeSetup& episode() const { return setup_; }
+  // Keep a TraceRow per simulation step (off by default; cleared at reset()).
+  void set_recording(bool on) { recording_ = on; }
+  const std::vector<TraceRow>& trace() const { return trace_; }
+
+  const rl::EnvSpec& spec() const override { return spec_; }
+  Eigen::VectorXd reset(std::optional<std::uint64_t> seed) override;
+  rl::StepResult step(const Eigen::VectorXd& action) override;
+
+  int decisions_per_episode() const;
+  int decisions_taken() const { return decision_; }
+  // Decisions so far whose force ended inside the band.
+  int decisions_in_band() const { return in_band_; }
+  // Seconds spent in settling (reset) and in simulation steps since construction.
+  double settle_seconds() const { return settle_s_; }
+  double step_seconds() const { return step_s_; }
+  // The simulator of the current episode (valid after reset()).
+  const fem::Simulator& simulator() const { return *sim_; }
+
+ private:
+  Eigen::VectorXd observe() const;
+  void record(double action);
+
+  std::shared_ptr<SimulatorPool> pool_;
+  TaskConfig task_;
+  rl::EnvSpec spec_;
+  EpisodeSetup setup_;
+  int sim_design_ = -1;
+  std::unique_ptr<fem::Simulator> sim_;
+  std::string reset_failure_;   // non-empty: settling failed; the first step terminates
+  int decision_ = 0;
+  int in_band_ = 0;
+  double last_dtheta_ = 0.0;
+  bool recording_ = false;
+  double settle_s_ = 0.0, step_s_ = 0.0;
+  std::vector<TraceRow> trace_;
+};
+
+}  // namespace codesign::coopt

@@ -1,0 +1,125 @@
+// A whole run: its folder, resuming from a checkpoint with the same final result, and bad
+// checkpoints or folders that stop with a clear error and lose nothing.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "base/errors.hpp"
+#include "codesign/run.hpp"
+#include "test_setup.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace codesign;
+using namespace codesign::coopt;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// result.toml without its wall-clock line.
+std::string result_without_wall(const fs::path& dir) {
+  std::istringstream in(slurp(dir / "result.toml"));
+  std::string line, out;
+  while (std::getline(in, line))
+    if (line.rfind("wall_s", 0) != 0) out += line + "\n";
+  return out;
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::path(::testing::TempDir()) / ("codesign_run_" + name);
+  fs::remove_all(d);
+  return d;
+}
+
+RunOptions opts(const fs::path& dir) {
+  RunOptions o;
+  o.dir = dir.string();
+  o.threads = 2;
+  o.progress = false;
+  return o;
+}
+
+TEST(Run, WritesTheRunFolder) {
+  const fs::path d = fresh_dir("folder");
+  const RunResult r = run_codesign(test::tiny_run(), opts(d));
+  EXPECT_TRUE(r.completed);
+  for (const char* f : {"config.toml", "episodes.csv", "ppo.csv", "distribution.csv", "q_disc.csv", "sampled.csv",
+                        "checkpoint.bin", "policy.bin", "result.toml", "eval/best.csv", "eval/best_trace.csv",
+                        "eval/runner_up.csv", "eval/runner_up_trace.csv"})
+    EXPECT_TRUE(fs::exists(d / f)) << f;
+  const std::string res = slurp(d / "result.toml");
+  for (const char* key : {"[best]", "[runner_up]", "[run]", "test_return", "band_fraction", "pressures_kPa", "wall_s"})
+    EXPECT_NE(res.find(key), std::string::npos) << key;
+  // ppo.csv: header + 6 updates.
+  std::istringstream ppo(slurp(d / "ppo.csv"));
+  int lines = 0;
+  for (std::string l; std::getline(ppo, l);) ++lines;
+  EXPECT_EQ(lines, 7);
+}
+
+TEST(Run, ResumedRunEndsIdentically) {
+  const fs::path a = fresh_dir("whole"), b = fresh_dir("resumed");
+  ASSERT_TRUE(run_codesign(test::tiny_run(), opts(a)).completed);
+  RunOptions o = opts(b);
+  o.stop_after = 60;  // between checkpoints (every 20): the logs hold rows past the checkpoint
+  ASSERT_FALSE(run_codesign(test::tiny_run(), o).completed);
+  o.stop_after = -1;
+  o.resume = true;
+  ASSERT_TRUE(run_codesign(test::tiny_run(), o).completed);
+  EXPECT_EQ(slurp(a / "policy.bin"), slurp(b / "policy.bin"));
+  EXPECT_EQ(result_without_wall(a), result_without_wall(b));
+  EXPECT_EQ(slurp(a / "episodes.csv"), slurp(b / "episodes.csv"));
+  EXPECT_EQ(slurp(a / "q_disc.csv"), slurp(b / "q_disc.csv"));
+}
+
+TEST(Run, RefusesToOverwriteAnEarlierRun) {
+  const fs::path d = fresh_dir("refuse");
+  RunOptions o = opts(d);
+  o.stop_after = 20;
+  run_codesign(test::tiny_run(), o);
+  const std::string before = slurp(d / "episodes.csv");
+  o.stop_after = -1;
+  EXPECT_THROW(run_codesign(test::tiny_run(), o), InputError);
+  EXPECT_EQ(slurp(d / "episodes.csv"), before);
+}
+
+TEST(Run, MismatchedOrDamagedCheckpointIsAClearErrorAndChangesNothing) {
+  const fs::path d = fresh_dir("damaged");
+  RunOptions o = opts(d);
+  o.stop_after = 40;
+  run_codesign(test::tiny_run(), o);
+  const std::string episodes = slurp(d / "episodes.csv"), ckpt = slurp(d / "checkpoint.bin");
+  o.stop_after = -1;
+  o.resume = true;
+  // Another config.
+  try {
+    run_codesign(test::tiny_run(8), o);
+    ADD_FAILURE() << "resumed with another config";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("another config"), std::string::npos) << e.what();
+  }
+  // One flipped byte.
+  std::string bad = ckpt;
+  bad[bad.size() / 2] ^= 0x20;
+  std::ofstream(d / "checkpoint.bin", std::ios::binary) << bad;
+  try {
+    run_codesign(test::tiny_run(), o);
+    ADD_FAILURE() << "resumed from a damaged checkpoint";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("checksum"), std::string::npos) << e.what();
+  }
+  // Truncated.
+  std::ofstream(d / "checkpoint.bin", std::ios::binary | std::ios::trunc) << ckpt.substr(0, ckpt.size() / 3);
+  EXPECT_THROW(run_codesign(test::tiny_run(), o), InputError);
+  EXPECT_EQ(slurp(d / "episodes.csv"), episodes);
+}
+
+}  // namespace

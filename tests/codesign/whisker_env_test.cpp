@@ -1,0 +1,160 @@
+// The whisker task: reward by hand, observation layout, termination and truncation, and
+// episodes that do not depend on what the simulator ran before.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+
+#include "codesign/whisker_env.hpp"
+#include "fem/design.hpp"
+
+namespace {
+
+using namespace codesign;
+using coopt::EpisodeSetup;
+using coopt::ObservationSet;
+using coopt::TaskConfig;
+using coopt::WhiskerEnv;
+
+std::shared_ptr<coopt::SimulatorPool> pool() {
+  static auto p = std::make_shared<coopt::SimulatorPool>(fem::WhiskerModelSpec{}, fem::SceneConfig{}, fem::SolverConfig{});
+  return p;
+}
+
+// Runs one episode with a constant action; returns the rewards.
+std::vector<double> episode(WhiskerEnv& env, const EpisodeSetup& s, double action, std::string* reason = nullptr) {
+  env.set_episode(s);
+  env.reset(std::nullopt);
+  std::vector<double> rewards;
+  Eigen::VectorXd a(1);
+  a[0] = action;
+  for (;;) {
+    const rl::StepResult r = env.step(a);
+    rewards.push_back(r.reward);
+    if (r.done()) {
+      if (reason) *reason = r.reason;
+      break;
+    }
+  }
+  return rewards;
+}
+
+TEST(ForceReward, RaisedCosineByHand) {
+  TaskConfig t;  // F_t = 20 mN, band ±20 % = ±4 mN, κ = 1.5
+  EXPECT_DOUBLE_EQ(coopt::force_reward(20.0, t), 1.0);
+  // δ = 2/4 = 0.5: (½(1 + cos(π/2)))^1.5 = 0.5^1.5 = 0.35355339059327373 (exact arithmetic;
+  // 1e-15 covers cos(π/2) ≈ 6e-17 and pow rounding).
+  EXPECT_NEAR(coopt::force_reward(22.0, t), 0.35355339059327373, 1e-15);
+  EXPECT_NEAR(coopt::force_reward(18.0, t), 0.35355339059327373, 1e-15);
+  // δ = 1 (band edge) and beyond: 0.
+  EXPECT_EQ(coopt::force_reward(24.0, t), 0.0);
+  EXPECT_EQ(coopt::force_reward(0.0, t), 0.0);
+  EXPECT_TRUE(coopt::in_band(23.9, t));
+  EXPECT_FALSE(coopt::in_band(24.1, t));
+}
+
+TEST(WhiskerEnv, ObservationLayouts) {
+  for (ObservationSet set : {ObservationSet::Paper, ObservationSet::Proprioceptive, ObservationSet::NoFeedback}) {
+    TaskConfig t;
+    t.observation = set;
+    WhiskerEnv env(pool(), t);
+    env.set_episode({63, 5.0, 15.0, 0.0, 0.0});
+    const Eigen::VectorXd o = env.reset(std::nullopt);
+    ASSERT_EQ(o.size(), coopt::observation_dim(set));
+    // Pressures 5 and 15 of 20 kPa map to −0.5 and +0.5.
+    const Eigen::Index p = set == ObservationSet::NoFeedback ? 0 : 3;
+    EXPECT_NEAR(o[p], -0.5, 1e-12);
+    EXPECT_NEAR(o[p + 1], 0.5, 1e-12);
+    if (set != ObservationSet::NoFeedback) {
+      const auto j = fem::normalised(fem::design_from_index(63));
+      EXPECT_EQ(o[0], j[0]);
+      EXPECT_EQ(o[1], j[1]);
+      EXPECT_EQ(o[2], j[2]);
+    }
+    if (set == ObservationSet::Proprioceptive) {
+      EXPECT_EQ(o[6], 0.0);  // θ = 0 at the start
+      Eigen::VectorXd a(1);
+      a[0] = 0.5;
+      const rl::StepResult r = env.step(a);
+      // θ = 0.5·θ_max = 5° of a 30° limit → 5/30.
+      EXPECT_NEAR(r.obs[6], 5.0 / 30.0, 1e-9);
+    }
+  }
+}
+
+TEST(WhiskerEnv, OneChamberIgnoresSecondPressure) {
+  TaskConfig t;
+  WhiskerEnv env(pool(), t);
+  env.set_episode({21, 5.0, 15.0, 0.0, 0.0});
+  const Eigen::VectorXd o = env.reset(std::nullopt);
+  EXPECT_NEAR(o[4], -1.0, 1e-12);  // p2 reported as 0 kPa
+}
+
+TEST(WhiskerEnv, FixedThetaTruncatesAtFiftyDecisionsAndLeavesTheBand) {
+  TaskConfig t;
+  WhiskerEnv env(pool(), t);
+  std::string reason;
+  const std::vector<double> r = episode(env, {21, 0.0, 0.0, 0.0, 0.0}, 0.0, &reason);
+  EXPECT_EQ(reason, "time_limit");
+  ASSERT_EQ(r.size(), 50u);
+  double sum = 0.0;
+  for (double x : r) {
+    EXPECT_GE(x, 0.0);  // a = 0: no penalties
+    EXPECT_LE(x, 1.0);
+    sum += x;
+  }
+  EXPECT_LT(env.decisions_in_band(), 50);  // the plate's ±2 mm swing leaves the ±4 mN band
+  EXPECT_LT(sum, 50.0);
+}
+
+TEST(WhiskerEnv, TurningAwayLosesContact) {
+  TaskConfig t;
+  WhiskerEnv env(pool(), t);
+  std::string reason;
+  const std::vector<double> r = episode(env, {21, 0.0, 0.0, 0.0, 0.0}, -1.0, &reason);
+  EXPECT_EQ(reason, "lost_contact");
+  EXPECT_LT(r.size(), 50u);
+  // Full action every decision: r_smooth = 0.05 each, no flips.
+  EXPECT_NEAR(r.back(), -0.05, 1e-12);
+}
+
+TEST(WhiskerEnv, FlipPenaltyOnSignChange) {
+  TaskConfig t;
+  WhiskerEnv env(pool(), t);
+  env.set_episode({21, 0.0, 0.0, 0.0, 0.0});
+  env.reset(std::nullopt);
+  Eigen::VectorXd a(1);
+  a[0] = 0.2;
+  const rl::StepResult r1 = env.step(a);
+  a[0] = -0.2;
+  const rl::StepResult r2 = env.step(a);
+  const fem::Sensors s = env.simulator().sensors();
+  // r = r_f − 0.05·0.2 − 0.1 (flip).
+  EXPECT_NEAR(r2.reward, coopt::force_reward(s.contact_force_mN, t) - 0.01 - 0.1, 1e-12);
+  (void)r1;
+}
+
+TEST(WhiskerEnv, EpisodeDoesNotDependOnEarlierEpisodes) {
+  TaskConfig t;
+  t.observation = ObservationSet::Proprioceptive;
+  const EpisodeSetup target{21, 3.0, 0.0, 1.0, 0.0};
+  // Fresh pool: the first simulator ever built for j21.
+  auto fresh = std::make_shared<coopt::SimulatorPool>(fem::WhiskerModelSpec{}, fem::SceneConfig{}, fem::SolverConfig{});
+  WhiskerEnv a(fresh, t);
+  a.set_recording(true);
+  const std::vector<double> ra = episode(a, target, 0.3);
+  const std::vector<coopt::TraceRow> ta = a.trace();
+  // The same simulator object after other episodes (another pressure, phase and actions).
+  WhiskerEnv b(fresh, t);
+  b.set_recording(true);
+  episode(b, {21, 12.0, 0.0, 2.5, 0.0}, -0.2);
+  episode(b, {21, 0.0, 0.0, 0.0, 0.0}, 0.7);
+  const std::vector<double> rb = episode(b, target, 0.3);
+  ASSERT_EQ(ra.size(), rb.size());
+  for (std::size_t i = 0; i < ra.size(); ++i) EXPECT_EQ(ra[i], rb[i]) << "decision " << i;  // bit-identical
+  ASSERT_EQ(ta.size(), b.trace().size());
+  for (std::size_t i = 0; i < ta.size(); ++i) EXPECT_EQ(ta[i].force_mN, b.trace()[i].force_mN) << "step " << i;
+}
+
+}  // namespace
