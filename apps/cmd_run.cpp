@@ -1,8 +1,9 @@
-// `codesign run --config run.toml -o runs/NAME [--resume] [--force] [--threads N]`
+// `codesign run --config run.toml [-o runs/NAME] [--resume] [--force] [--threads N] [--quiet]`
 // (also the main job: `codesign --config run.toml -o runs/NAME`).
 //
 // Runs the co-design (Algorithm 1 + 2) of the config's [codesign], [task], [ppo] and simulator
 // tables, writing the run folder described in src/codesign/run.hpp.
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -37,6 +38,8 @@ std::string read_text(const std::string& path) {
 
 int run_main_job(const RunCliOptions& o) {
   const SimSetup setup = read_sim_setup(o.config);
+  // Default run folder: runs/<config file name without extension>.
+  const std::string out = o.out.empty() ? "runs/" + std::filesystem::path(o.config).stem().string() : o.out;
   coopt::RunSettings s;
   s.spec = setup.spec;
   s.scene = setup.scene;
@@ -44,7 +47,7 @@ int run_main_job(const RunCliOptions& o) {
   s.loop = {setup.task, setup.codesign, setup.ppo};
   s.config_text = read_text(o.config);
   coopt::RunOptions ro;
-  ro.dir = o.out;
+  ro.dir = out;
   ro.resume = o.resume;
   ro.force = o.force;
   ro.threads = static_cast<std::size_t>(o.threads);
@@ -60,7 +63,7 @@ void add_run_command(CLI::App& root, Runner& run) {
   auto opt = std::make_shared<RunCliOptions>();
   CLI::App* cmd = root.add_subcommand("run", "Co-design run: Algorithms 1 and 2, evaluation, result.toml (the main job)");
   cmd->add_option("--config", opt->config, "run config (TOML)")->required();
-  cmd->add_option("-o,--out", opt->out, "run folder (e.g. runs/NAME)")->required();
+  cmd->add_option("-o,--out", opt->out, "run folder (default runs/<config name>)");
   CLI::Option* resume = cmd->add_flag("--resume", opt->resume, "continue the run in the folder from its checkpoint.bin");
   CLI::Option* force = cmd->add_flag("--force", opt->force, "start afresh even if the folder holds an earlier run");
   resume->excludes(force);

@@ -38,6 +38,7 @@ namespace codesign::coopt {
 inline constexpr double kObservationClip = 3.0;
 
 struct EpisodeSetup {
+  bool operator==(const EpisodeSetup&) const = default;
   int design = 21;
   double p1_kPa = 0.0;
   double p2_kPa = 0.0;          // ignored (0) for one-chamber designs
@@ -100,6 +101,11 @@ class WhiskerEnv final : public rl::Env {
   EpisodeSetup setup_;
   int sim_design_ = -1;
   std::unique_ptr<fem::Simulator> sim_;
+  // The settled state of the last setup settled on this environment: an episode restarted with
+  // the same setup (after an early termination) restores it instead of settling again, with
+  // bit-identical results (fem::Simulator::restore).
+  std::optional<EpisodeSetup> settled_setup_;
+  fem::Simulator::Snapshot settled_;
   std::string reset_failure_;   // non-empty: settling failed; the first step terminates
   int decision_ = 0;
   int in_band_ = 0;

@@ -119,6 +119,26 @@ class Simulator {
   // set it before settle(), which loads the body up to the plate height at t = 0.
   void set_plate_phase(double phase_rad);
 
+  // A copy of the simulator's state: everything a later step reads (positions, velocities,
+  // element rotations, contact set, time, base-angle ramp, plate, pressures). restore() puts it
+  // back and, for the fast method, refactorises the stored preconditioner at the restored state
+  // when the snapshot had one, so steps after restore() are bit-identical to the steps after
+  // snapshot() (tests/fem/snapshot_test.cpp). Used to start a repeated episode from its settled
+  // state without settling again. A snapshot only fits simulators of the same model.
+  class Snapshot {
+   public:
+    Snapshot() = default;
+    bool empty() const { return !data_; }
+
+   private:
+    friend class Simulator;
+    struct Data;
+    std::shared_ptr<const Data> data_;
+  };
+  Snapshot snapshot() const;
+  // Throws std::invalid_argument for an empty snapshot or one of another model.
+  StepResult restore(const Snapshot& snapshot);
+
   Sensors sensors() const;
   // Per tet: axial engineering strain ‖F x̂‖ − 1 at the current state (for plots / VTK).
   std::vector<double> element_axial_strain() const;

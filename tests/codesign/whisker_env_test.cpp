@@ -155,6 +155,8 @@ TEST(WhiskerEnv, EpisodeDoesNotDependOnEarlierEpisodes) {
   for (std::size_t i = 0; i < ra.size(); ++i) EXPECT_EQ(ra[i], rb[i]) << "decision " << i;  // bit-identical
   ASSERT_EQ(ta.size(), b.trace().size());
   for (std::size_t i = 0; i < ta.size(); ++i) EXPECT_EQ(ta[i].force_mN, b.trace()[i].force_mN) << "step " << i;
+  // The same setup again on `a`: restored from its settled snapshot instead of settling.
+  EXPECT_EQ(episode(a, target, 0.3), ra);
 }
 
 }  // namespace
