@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <numeric>
 #include <optional>
 #include <sstream>
@@ -181,17 +182,30 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   const std::uint64_t fp = fingerprint(settings.config_text);
   std::optional<Checkpoint> ckpt;
   std::error_code ec;
+  bool fresh = !options.resume;
   if (options.resume) {
-    if (!fs::exists(ckpt_path, ec))
-      throw InputError(dir.string() + ": no checkpoint.bin to resume from (start the run without --resume)");
-    ckpt = load_checkpoint(ckpt_path.string(), fp);
-  } else {
+    if (fs::exists(ckpt_path, ec)) {
+      ckpt = load_checkpoint(ckpt_path.string(), fp);
+    } else {
+      // Stopped before its first checkpoint: nothing to keep, so start this run's config again.
+      std::ifstream in(dir / "config.toml", std::ios::binary);
+      std::ostringstream text;
+      text << in.rdbuf();
+      if (!in || text.str() != settings.config_text)
+        throw InputError(dir.string() + ": no checkpoint.bin (and no config.toml of this config) to resume from; "
+                         "start the run without --resume");
+      fresh = true;
+    }
+  }
+  if (fresh && !options.resume) {
     for (const char* f : {"config.toml", "checkpoint.bin", "result.toml", "episodes.csv"})
       if (fs::exists(dir / f, ec) && !options.force)
         throw InputError(dir.string() + ": already holds " + f + " of an earlier run; continue it with --resume, "
                          "or choose another -o, or pass --force to start afresh");
     fs::create_directories(dir, ec);
     if (ec) throw InputError(dir.string() + ": cannot create the run folder: " + ec.message());
+  }
+  if (fresh) {
     for (const char* f : {"checkpoint.bin", "result.toml", "policy.bin"}) fs::remove(dir / f, ec);
     io::write_file_atomically((dir / "config.toml").string(), [&](std::ostream& out) { out << settings.config_text; });
   }
