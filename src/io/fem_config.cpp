@@ -3,6 +3,7 @@
 #include <numbers>
 
 #include "fem/design.hpp"
+#include "io/mesh_config.hpp"
 
 namespace codesign::io {
 
@@ -62,6 +63,24 @@ FibreStiffness read_fibre_stiffness(TableReader& fibres) {
   FibreStiffness f;
   f.axial_stiffness_uN = 1e6 * fibres.number("axial_stiffness_N", 1e-6 * f.axial_stiffness_uN, 0.0, 1e4);
   f.tension_only = fibres.boolean("tension_only", f.tension_only);
+  return f;
+}
+
+FemTables read_fem_tables(TableReader& root) {
+  FemTables f;
+  f.spec.model.material = read_material(root);
+  const SceneSettings sc = read_scene(root);
+  f.scene = sc.scene;
+  f.spec.model.tip_region_mm = sc.tip_region_mm;
+  f.solver = read_solver(root);
+  f.spec.geometry = read_geometry(root);
+  f.spec.mesh = read_mesh_options(root);
+  TableReader fibres = root.table("fibres");
+  const FibreStiffness fs = read_fibre_stiffness(fibres);
+  f.spec.model.fibre_axial_stiffness_uN = fs.axial_stiffness_uN;
+  f.spec.model.fibres_tension_only = fs.tension_only;
+  f.spec.fibres = read_fibre_layout(fibres);
+  fibres.finish();
   return f;
 }
 

@@ -19,6 +19,7 @@
 #include "fem/material.hpp"
 #include "fem/scene.hpp"
 #include "fem/simulator.hpp"
+#include "fem/whisker_model.hpp"
 #include "io/toml_reader.hpp"
 
 namespace codesign::io {
@@ -38,6 +39,16 @@ struct FibreStiffness {
   bool tension_only = false;
 };
 FibreStiffness read_fibre_stiffness(TableReader& fibres);
+
+// Every simulator table of a run config, as the run uses them: [material], [scene] (with
+// tip_region_mm into spec.model), [solver], [geometry], [mesh] (mesh_config.hpp) and [fibres]
+// (layout and stiffness; finished here). The inverse is io::write_fem_tables (config_writer.hpp).
+struct FemTables {
+  fem::WhiskerModelSpec spec;
+  fem::SceneConfig scene;
+  fem::SolverConfig solver;
+};
+FemTables read_fem_tables(TableReader& root);
 
 // The open-loop scenario of `codesign sim`.
 struct SimScenario {

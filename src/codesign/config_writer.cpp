@@ -1,0 +1,62 @@
+#include "codesign/config_writer.hpp"
+
+#include <sstream>
+
+#include "codesign/outer_loop.hpp"
+#include "io/config_writer.hpp"
+
+namespace codesign::coopt {
+
+void write_task_table(std::ostream& out, const TaskConfig& c) {
+  io::TomlTableWriter t(out, "task");
+  t.integer("episode_steps", c.episode_steps);
+  t.integer("action_hold_steps", c.action_hold_steps);
+  t.number("theta_max_rad", c.theta_max_rad);
+  t.number("target_force_mN", c.target_force_mN);
+  t.number("tolerance_fraction", c.tolerance_fraction);
+  t.number("kappa", c.kappa);
+  t.number("smooth_penalty", c.smooth_penalty);
+  t.number("flip_penalty", c.flip_penalty);
+  t.string("observation", to_string(c.observation));
+  t.number("strain_min", c.strain_min);
+  t.number("strain_max", c.strain_max);
+  t.number("pressure_max_kPa", c.pressure_max_kPa);
+}
+
+void write_codesign_table(std::ostream& out, const CodesignConfig& c) {
+  io::TomlTableWriter t(out, "codesign");
+  t.integer("total_timesteps", c.total_timesteps);
+  t.integer("designs_per_update", c.designs_per_update);
+  t.integer("exploitation_start", c.exploitation_start);
+  t.integer("exploration_end", c.exploration_end);
+  t.number("alpha", c.alpha);
+  t.number("phi", c.phi);
+  t.number("beta_start", c.beta_start);
+  t.number("beta_end", c.beta_end);
+  t.integer("reward_buffer", c.reward_buffer);
+  t.number("latent_mu0", c.latent_mu0);
+  t.number("latent_sigma0", c.latent_sigma0);
+  t.number("latent_sigma_min", c.latent_sigma_min);
+  t.string("baseline", c.baseline == Baseline::SingleDesign ? "single_design" : "none");
+  t.integer("single_design_index", c.single_design_index);
+  t.number("single_design_p1_kPa", c.single_design_p1_kPa);
+  t.number("single_design_p2_kPa", c.single_design_p2_kPa);
+  t.boolean("random_plate_phase", c.random_plate_phase);
+  t.degrees("plate_phase_deg", c.plate_phase_rad);
+  t.integer("eval_episodes", c.eval_episodes);
+  t.integer("checkpoint_every", c.checkpoint_every);
+  t.integer("seed", static_cast<std::int64_t>(c.seed));
+}
+
+std::string resolved_run_config(const fem::WhiskerModelSpec& spec, const fem::SceneConfig& scene,
+                                const fem::SolverConfig& solver, const LoopConfig& loop) {
+  std::ostringstream out;
+  out << "# resolved by codesign: every key the run reads, with the value used\n\n";
+  io::write_fem_tables(out, spec, scene, solver);
+  write_task_table(out, loop.task);
+  write_codesign_table(out, loop.codesign);
+  io::write_ppo_table(out, loop.ppo);
+  return out.str();
+}
+
+}  // namespace codesign::coopt

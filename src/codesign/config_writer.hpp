@@ -1,0 +1,29 @@
+#pragma once
+// Writing the co-design tables back as TOML (the inverse of config_reader.hpp), and the whole
+// resolved config of a run: every table and key the run reads, with the value it uses.
+#include <ostream>
+#include <string>
+
+#include "codesign/codesign_config.hpp"
+#include "codesign/task_config.hpp"
+#include "fem/simulator.hpp"
+#include "fem/whisker_model.hpp"
+
+namespace codesign::coopt {
+
+struct LoopConfig;  // outer_loop.hpp
+
+// [task] (observation as its name).
+void write_task_table(std::ostream& out, const TaskConfig& task);
+// [codesign] (baseline as "none" / "single_design", plate_phase_deg in degrees).
+void write_codesign_table(std::ostream& out, const CodesignConfig& codesign);
+
+// The resolved config of a co-design run: a header comment, then [material], [scene],
+// [solver], [geometry], [mesh], [fibres] (io::write_fem_tables), [task], [codesign] and [ppo]
+// (io::write_ppo_table). No [sim]: the run does not read it. Reading the text back (the readers
+// of io/fem_config.hpp, io/mesh_config.hpp, config_reader.hpp and read_ppo_config over
+// rl::paper_ppo_config()) gives the same values, so resolving that again gives the same text.
+std::string resolved_run_config(const fem::WhiskerModelSpec& spec, const fem::SceneConfig& scene,
+                                const fem::SolverConfig& solver, const LoopConfig& loop);
+
+}  // namespace codesign::coopt
