@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev libnlopt-cxx-dev
-  liblcm-dev liblcm-bin liblcm-java default-jre-headless
+  liblcm-dev liblcm-bin liblcm-java default-jre-headless default-jdk-headless libjchart2d-java
   libosmesa6-dev libpng-dev
   libgmsh-dev libtomlplusplus-dev libcli11-dev
   libgtest-dev libbenchmark-dev
