@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -26,6 +27,7 @@ struct RunCliOptions {
   int threads = 0;
   long long stop_after = -1;
   bool quiet = false;
+  std::optional<std::string> telemetry;
 };
 
 std::string read_text(const std::string& path) {
@@ -53,6 +55,7 @@ int run_main_job(const RunCliOptions& o) {
   ro.threads = static_cast<std::size_t>(o.threads);
   ro.progress = !o.quiet;
   ro.stop_after = o.stop_after;
+  ro.telemetry_url = o.telemetry ? *o.telemetry : setup.telemetry_url;
   const coopt::RunResult r = coopt::run_codesign(s, ro);
   return r.completed ? 0 : 4;
 }
@@ -73,6 +76,8 @@ void add_run_command(CLI::App& root, Runner& run) {
                   "stop (checkpointed, exit status 4) after the iteration reaching this many timesteps; for tests")
       ->check(CLI::Range(0LL, 1LL << 40));
   cmd->add_flag("--quiet", opt->quiet, "no progress line");
+  cmd->add_option("--telemetry", opt->telemetry,
+                  "LCM URL for live telemetry, overriding [telemetry] url (\"\" = off; see docs/telemetry.md)");
   cmd->callback([opt, &run] { run = [opt] { return run_main_job(*opt); }; });
 }
 

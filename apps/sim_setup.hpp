@@ -22,6 +22,7 @@ struct SimSetup {
   coopt::TaskConfig task;          // [task]
   coopt::CodesignConfig codesign;  // [codesign]
   rl::PpoConfig ppo;               // [ppo] over the paper's settings (rl::paper_ppo_config)
+  std::string telemetry_url;       // [telemetry] url: LCM URL, "" = off
 };
 
 // Reads [geometry], [mesh], [fibres] (layout + stiffness), [material], [scene], [solver], [sim]

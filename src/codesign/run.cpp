@@ -14,10 +14,12 @@
 
 #include "base/errors.hpp"
 #include "codesign/checkpoint.hpp"
+#include "codesign/config_writer.hpp"
 #include "codesign/evaluation.hpp"
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_log.hpp"
+#include "io/telemetry.hpp"
 #include "rl/policy_file.hpp"
 
 namespace codesign::coopt {
@@ -141,6 +143,91 @@ void log_iteration(Logs& logs, const IterationReport& rep, const DesignDistribut
   }
 }
 
+// The iteration's rows as LCM messages (the same numbers as the CSV logs).
+void publish_iteration(io::Telemetry& tel, const IterationReport& rep, const DesignDistribution& dist,
+                       double steps_per_s) {
+  if (!tel.enabled()) return;
+  for (const EpisodeRecord& e : rep.episodes) {
+    const fem::Design d = fem::design_from_index(e.setup.design);
+    codesign_lcm::episode_t m{};
+    m.timestep = rep.t;
+    m.iteration = rep.k;
+    m.env = e.env;
+    m.design = e.setup.design;
+    m.n_chambers = d.n;
+    m.l_mm = d.chamber_length_mm;
+    m.w_mm = d.wall_mm;
+    m.pressures_kPa[0] = e.setup.p1_kPa;
+    m.pressures_kPa[1] = e.setup.p2_kPa;
+    m.phase_rad = e.setup.plate_phase_rad;
+    m.episode_return = e.episode_return;
+    m.decisions = e.decisions;
+    m.in_band = e.in_band;
+    m.first = e.first;
+    m.reason = e.reason;
+    tel.publish(m);
+  }
+  const rl::PpoStats& p = rep.ppo;
+  codesign_lcm::ppo_update_t u{};
+  u.iteration = rep.k;
+  u.timestep = rep.t;
+  u.pg_loss = p.pg_loss;
+  u.value_loss = p.value_loss;
+  u.entropy_loss = p.entropy_loss;
+  u.loss = p.loss;
+  u.approx_kl = p.approx_kl;
+  u.clip_fraction = p.clip_fraction;
+  u.explained_variance = p.explained_variance;
+  u.learning_rate = rep.learning_rate;
+  u.ent_coef = p.ent_coef;
+  u.epochs = p.epochs_done;
+  u.early_stopped = p.early_stopped;
+  u.grad_norm = p.grad_norm;
+  u.collect_s = rep.collect_s;
+  u.update_s = rep.update_s;
+  u.policy_s = rep.policy_s;
+  u.steps_per_s = steps_per_s;
+  tel.publish(u);
+  codesign_lcm::distribution_t q{};
+  q.iteration = rep.k;
+  q.timestep = rep.t;
+  q.phase = to_string(dist.phase(rep.t));
+  q.beta = rep.beta;
+  q.entropy = dist.entropy(rep.t);
+  const Eigen::VectorXd prob = dist.probabilities(rep.t);
+  for (Eigen::Index j = 0; j < prob.size() && j < 110; ++j) q.probabilities[j] = prob[j];
+  const int best = dist.state().collapsed ? dist.state().best_design : dist.ranking().front();
+  const Eigen::Vector2d mu = dist.mean_pressures_kPa(best), sg = dist.sigma_pressures_kPa(best);
+  q.best_design = best;
+  q.best_score = dist.state().score[best];
+  q.best_mu_kPa[0] = mu[0];
+  q.best_mu_kPa[1] = mu[1];
+  q.best_sigma_kPa[0] = sg[0];
+  q.best_sigma_kPa[1] = sg[1];
+  tel.publish(q);
+}
+
+// The simulation steps of an evaluation trace.
+void publish_trace(io::Telemetry& tel, const DesignEvaluation& e, std::int64_t t) {
+  if (!tel.enabled()) return;
+  for (const TraceRow& r : e.trace) {
+    codesign_lcm::sim_step_t m{};
+    m.timestep = t;
+    m.t_s = r.t_s;
+    m.theta_rad = r.theta_rad;
+    m.force_mN = r.force_mN;
+    m.strain = r.strain;
+    for (int i = 0; i < 3; ++i) m.tip_mm[i] = r.tip_mm[i];
+    m.plate_z_mm = r.plate_z_mm;
+    m.design = e.setup.design;
+    m.pressures_kPa[0] = e.setup.p1_kPa;
+    m.pressures_kPa[1] = e.setup.p2_kPa;
+    m.decision = r.decision;
+    m.action = r.action;
+    tel.publish(m);
+  }
+}
+
 void write_eval(const fs::path& dir, const std::string& which, const DesignEvaluation& e) {
   fs::create_directories(dir);
   io::write_file_atomically((dir / (which + ".csv")).string(), [&](std::ostream& out) {
@@ -179,7 +266,10 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();
   const fs::path dir(options.dir);
   const fs::path ckpt_path = dir / "checkpoint.bin";
-  const std::uint64_t fp = fingerprint(settings.config_text);
+  // The resolved config (every key with the value used) is what the run folder keeps and what
+  // checkpoints are tied to: resuming with the original file or with DIR/config.toml both match.
+  const std::string resolved = resolved_run_config(settings.spec, settings.scene, settings.solver, settings.loop);
+  const std::uint64_t fp = fingerprint(resolved);
   std::optional<Checkpoint> ckpt;
   std::error_code ec;
   bool fresh = !options.resume;
@@ -191,7 +281,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
       std::ifstream in(dir / "config.toml", std::ios::binary);
       std::ostringstream text;
       text << in.rdbuf();
-      if (!in || text.str() != settings.config_text)
+      if (!in || text.str() != resolved)
         throw InputError(dir.string() + ": no checkpoint.bin (and no config.toml of this config) to resume from; "
                          "start the run without --resume");
       fresh = true;
@@ -207,7 +297,10 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   }
   if (fresh) {
     for (const char* f : {"checkpoint.bin", "result.toml", "policy.bin"}) fs::remove(dir / f, ec);
-    io::write_file_atomically((dir / "config.toml").string(), [&](std::ostream& out) { out << settings.config_text; });
+    io::write_file_atomically((dir / "config.toml").string(), [&](std::ostream& out) { out << resolved; });
+    if (!options.resume)
+      io::write_file_atomically((dir / "config.input.toml").string(),
+                                [&](std::ostream& out) { out << settings.config_text; });
   }
 
   auto sims = std::make_shared<SimulatorPool>(settings.spec, settings.scene, settings.solver);
@@ -225,6 +318,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     wall_before = ckpt->wall_s;
   }
   Logs logs(dir, ckpt ? &ckpt->logs : nullptr);
+  const std::unique_ptr<io::Telemetry> telemetry = io::make_telemetry(options.telemetry_url);
 
   const CodesignConfig& c = lc.codesign;
   const std::int64_t T = c.total_timesteps;
@@ -247,6 +341,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     const double el = elapsed();
     const double rate = static_cast<double>(rep.t - t0) / std::max(el, 1e-9);
     log_iteration(logs, rep, loop.distribution(), rate);
+    publish_iteration(*telemetry, rep, loop.distribution(), rate);
     if (rep.t - last_ckpt >= c.checkpoint_every || loop.finished()) {
       checkpoint();
       last_ckpt = rep.t;
@@ -254,7 +349,9 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     if (options.progress && (el - last_print >= (tty ? 0.5 : 10.0) || loop.finished())) {
       last_print = el;
       const DesignDistribution& d = loop.distribution();
-      const int best = d.state().collapsed ? d.state().best_design : d.ranking().front();
+      const int best = c.baseline == Baseline::SingleDesign ? c.single_design_index
+                       : d.state().collapsed                ? d.state().best_design
+                                                            : d.ranking().front();
       double mean_first = 0.0;
       int nfirst = 0;
       for (const EpisodeRecord& e : rep.episodes)
@@ -305,10 +402,12 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   eo.threads = options.threads;
   const DesignEvaluation eb = evaluate_design(policy, sims, lc.task, best, eo);
   write_eval(dir / "eval", "best", eb);
+  publish_trace(*telemetry, eb, loop.timesteps());
   std::optional<DesignEvaluation> er;
   if (has_runner) {
     er = evaluate_design(policy, sims, lc.task, runner, eo);
     write_eval(dir / "eval", "runner_up", *er);
+    publish_trace(*telemetry, *er, loop.timesteps());
   }
   rl::save_policy(dir / "policy.bin", model);
   result.wall_s = elapsed();

@@ -3,7 +3,9 @@
 // evaluation of d* and the runner-up, then result.toml and policy.bin.
 //
 // Run folder (DIR):
-//   config.toml        the config the run was started with (verbatim; resuming checks it)
+//   config.toml        the resolved config: every key the run reads, with the value used
+//                      (checkpoints carry its fingerprint; resuming checks it)
+//   config.input.toml  the config file as given
 //   episodes.csv       every episode of training (first = the one fed to Algorithm 2)
 //   ppo.csv            one row per PPO update
 //   distribution.csv   one row per distribution update: phase, β, entropy, top designs, best
@@ -32,7 +34,7 @@ struct RunSettings {
   fem::SceneConfig scene;
   fem::SolverConfig solver;
   LoopConfig loop;
-  std::string config_text;   // the config file's text (copied to config.toml, fingerprinted)
+  std::string config_text;   // the config file's text (copied to config.input.toml)
 };
 
 struct RunOptions {
@@ -41,6 +43,9 @@ struct RunOptions {
   bool force = false;           // start afresh even if DIR holds an earlier run
   std::size_t threads = 0;      // rollout and evaluation threads (0: all cores)
   bool progress = true;         // progress line on stdout
+  // LCM telemetry URL ("" = off): episodes, PPO updates and distribution updates as they
+  // happen, and the simulation steps of the final evaluation's first episodes (docs/telemetry.md).
+  std::string telemetry_url;
   // Stop (as if killed, after the iteration that reaches it) once t ≥ stop_after; for tests.
   std::int64_t stop_after = -1;
 };

@@ -103,7 +103,11 @@ TEST(RunCommand, MainJobWritesTheRunFolderAndRefusesToStartOverIt) {
   EXPECT_NE(r.output.find("codesign: d* = j"), std::string::npos) << r.output;
   const std::string result = slurp(fs::path(out) / "result.toml");
   EXPECT_NE(result.find("[best]"), std::string::npos);
-  EXPECT_EQ(slurp(fs::path(out) / "config.toml"), kTinyRun);
+  EXPECT_EQ(slurp(fs::path(out) / "config.input.toml"), kTinyRun);
+  // config.toml is the resolved config: every table, and it runs as it is.
+  const std::string resolved = slurp(fs::path(out) / "config.toml");
+  for (const char* t : {"[material]", "[scene]", "[solver]", "[task]", "[codesign]", "[ppo]"})
+    EXPECT_NE(resolved.find(t), std::string::npos) << t;
   const std::string policy = slurp(fs::path(out) / "policy.bin");
   ASSERT_FALSE(policy.empty());
 

@@ -4,11 +4,14 @@
 
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
+#include <map>
 #include <sstream>
 #include <string>
 
 #include "base/errors.hpp"
 #include "codesign/run.hpp"
+#include "lcm/eventlog.h"
 #include "test_setup.hpp"
 
 namespace {
@@ -51,7 +54,7 @@ TEST(Run, WritesTheRunFolder) {
   const fs::path d = fresh_dir("folder");
   const RunResult r = run_codesign(test::tiny_run(), opts(d));
   EXPECT_TRUE(r.completed);
-  for (const char* f : {"config.toml", "episodes.csv", "ppo.csv", "distribution.csv", "q_disc.csv", "sampled.csv",
+  for (const char* f : {"config.toml", "config.input.toml", "episodes.csv", "ppo.csv", "distribution.csv", "q_disc.csv", "sampled.csv",
                         "checkpoint.bin", "policy.bin", "result.toml", "eval/best.csv", "eval/best_trace.csv",
                         "eval/runner_up.csv", "eval/runner_up_trace.csv"})
     EXPECT_TRUE(fs::exists(d / f)) << f;
@@ -120,6 +123,42 @@ TEST(Run, MismatchedOrDamagedCheckpointIsAClearErrorAndChangesNothing) {
   std::ofstream(d / "checkpoint.bin", std::ios::binary | std::ios::trunc) << ckpt.substr(0, ckpt.size() / 3);
   EXPECT_THROW(run_codesign(test::tiny_run(), o), InputError);
   EXPECT_EQ(slurp(d / "episodes.csv"), episodes);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Run, TelemetryLogHoldsEveryChannelAndChangesNothing) {
+  const fs::path plain = fresh_dir("tel_off"), logged = fresh_dir("tel_on");
+  ASSERT_TRUE(run_codesign(test::tiny_run(), opts(plain)).completed);
+  RunOptions o = opts(logged);
+  fs::create_directories(logged);
+  const fs::path log = logged / "telemetry.lcm";
+  o.telemetry_url = "file://" + log.string() + "?mode=w";
+  ASSERT_TRUE(run_codesign(test::tiny_run(), o).completed);
+  EXPECT_EQ(slurp(plain / "policy.bin"), slurp(logged / "policy.bin"));
+
+  std::map<std::string, int> count;
+  lcm_eventlog_t* in = lcm_eventlog_create(log.c_str(), "r");
+  ASSERT_NE(in, nullptr);
+  while (lcm_eventlog_event_t* e = lcm_eventlog_read_next_event(in)) {
+    ++count[std::string(e->channel, e->channellen)];
+    lcm_eventlog_free_event(e);
+  }
+  lcm_eventlog_destroy(in);
+  // 6 iterations; one message per row of episodes.csv; the steps of the first evaluation
+  // episode of d* and of the runner-up, as in their trace files.
+  auto rows = [&](const fs::path& f) {
+    const std::string text = slurp(f);
+    return static_cast<int>(std::count(text.begin(), text.end(), '\n')) - 1;  // minus the header
+  };
+  EXPECT_EQ(count["CODESIGN_PPO"], 6);
+  EXPECT_EQ(count["CODESIGN_DISTRIBUTION"], 6);
+  EXPECT_EQ(count["CODESIGN_EPISODE"], rows(logged / "episodes.csv"));
+  EXPECT_EQ(count["CODESIGN_SIM_STEP"],
+            rows(logged / "eval" / "best_trace.csv") + rows(logged / "eval" / "runner_up_trace.csv"));
+  EXPECT_GT(count["CODESIGN_SIM_STEP"], 2);
 }
 
 }  // namespace
