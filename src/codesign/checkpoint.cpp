@@ -24,11 +24,13 @@ class Writer {
   }
   void floats(const Eigen::VectorXf& v) {
     pod<std::uint64_t>(static_cast<std::uint64_t>(v.size()));
+    if (v.size() == 0) return;
     const auto* p = reinterpret_cast<const unsigned char*>(v.data());
     bytes.insert(bytes.end(), p, p + sizeof(float) * static_cast<std::size_t>(v.size()));
   }
   void doubles(const double* d, std::size_t n) {
     pod<std::uint64_t>(n);
+    if (n == 0) return;
     const auto* p = reinterpret_cast<const unsigned char*>(d);
     bytes.insert(bytes.end(), p, p + sizeof(double) * n);
   }
@@ -61,7 +63,7 @@ class Reader {
   Eigen::VectorXf floats(const char* what) {
     const auto n = count(what, sizeof(float));
     Eigen::VectorXf v(static_cast<Eigen::Index>(n));
-    std::memcpy(v.data(), b_.data() + pos_, n * sizeof(float));
+    if (n > 0) std::memcpy(v.data(), b_.data() + pos_, n * sizeof(float));  // (empty: data() may be null)
     pos_ += n * sizeof(float);
     if (!v.allFinite()) fail(std::string("non-finite value in ") + what);
     return v;
@@ -69,7 +71,7 @@ class Reader {
   std::vector<double> doubles(const char* what) {
     const auto n = count(what, sizeof(double));
     std::vector<double> v(n);
-    std::memcpy(v.data(), b_.data() + pos_, n * sizeof(double));
+    if (n > 0) std::memcpy(v.data(), b_.data() + pos_, n * sizeof(double));  // (empty: data() may be null)
     pos_ += n * sizeof(double);
     return v;
   }
