@@ -104,6 +104,9 @@ class DesignDistribution {
   Eigen::Vector2d sigma_pressures_kPa(int design) const;
 
   std::vector<int> ranking() const;  // designs by R̂ descending, ties by lower index
+  // The design the distribution currently favours: d* once collapsed, else argmax R̂ (ties:
+  // lowest index, i.e. ranking().front()).
+  int leading_design() const { return state_.collapsed ? state_.best_design : argmax_score(); }
   const DistributionState& state() const { return state_; }
   const DistributionConfig& config() const { return config_; }
   int design_count() const { return static_cast<int>(chambers_.size()); }

@@ -46,6 +46,13 @@ DistributionConfig distribution_config(const CodesignConfig& c, const TaskConfig
   return d;
 }
 
+DesignSample single_design(const CodesignConfig& c) {
+  DesignSample d;
+  d.design = c.single_design_index;
+  d.pressures_kPa = {c.single_design_p1_kPa, fem::design_from_index(d.design).n >= 2 ? c.single_design_p2_kPa : 0.0};
+  return d;
+}
+
 std::vector<int> design_chambers() {
   std::vector<int> n(fem::kDesignCount);
   for (int j = 0; j < fem::kDesignCount; ++j) n[j] = fem::design_from_index(j).n;
@@ -76,10 +83,7 @@ std::vector<DesignSample> OuterLoop::sample_designs(std::vector<EpisodeSetup>& s
   setups.clear();
   for (std::size_t i = 0; i < envs_->size(); ++i) {
     DesignSample d = distribution_.sample(t_, design_rng_);  // always drawn: one RNG stream
-    if (c.baseline == Baseline::SingleDesign) {
-      d.design = c.single_design_index;
-      d.pressures_kPa = {c.single_design_p1_kPa, fem::design_from_index(d.design).n >= 2 ? c.single_design_p2_kPa : 0.0};
-    }
+    if (c.baseline == Baseline::SingleDesign) d = single_design(c);
     const double u = design_rng_.uniform();
     const double phase = c.random_plate_phase ? 2.0 * std::numbers::pi * u : c.plate_phase_rad;
     setups.push_back({d.design, d.pressures_kPa[0], d.pressures_kPa[1], phase});
@@ -162,10 +166,10 @@ IterationReport OuterLoop::iterate() {
   rep.update_s = seconds_since(t_update);
 
   const auto t_dist = std::chrono::steady_clock::now();
-  std::vector<double> returns(static_cast<std::size_t>(n), 0.0);
+  rep.returns.assign(static_cast<std::size_t>(n), 0.0);
   for (const EpisodeRecord& e : rep.episodes)
-    if (e.first) returns[static_cast<std::size_t>(e.env)] = e.episode_return;
-  if (config_.codesign.baseline != Baseline::SingleDesign) distribution_.update(rep.samples, returns, t_);
+    if (e.first) rep.returns[static_cast<std::size_t>(e.env)] = e.episode_return;
+  if (config_.codesign.baseline != Baseline::SingleDesign) distribution_.update(rep.samples, rep.returns, t_);
   rep.distribution_s = seconds_since(t_dist);
   rep.beta = distribution_.beta(t_);
   rep.t = t_;

@@ -43,6 +43,8 @@ struct LoopConfig {
 
 // The distribution settings of a co-design config.
 DistributionConfig distribution_config(const CodesignConfig& c, const TaskConfig& task);
+// The fixed design of the single-design baseline: (j, p1, p2) with p2 = 0 for one chamber.
+DesignSample single_design(const CodesignConfig& c);
 // Chambers of each of the 110 designs.
 std::vector<int> design_chambers();
 
@@ -63,6 +65,7 @@ struct IterationReport {
   Phase phase = Phase::Exploration;  // phase the designs were sampled in
   double beta = 0.0;               // β(t) after the update
   std::vector<DesignSample> samples;
+  std::vector<double> returns;     // R_{d_i}: return of environment i's first episode (fed to Alg. 2)
   std::vector<EpisodeRecord> episodes;
   rl::PpoStats ppo;
   double learning_rate = 0.0;

@@ -122,7 +122,7 @@ void log_iteration(Logs& logs, const IterationReport& rep, const DesignDistribut
   std::vector<int> order(static_cast<std::size_t>(q.size()));
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return q[a] > q[b]; });
-  const int best = dist.state().collapsed ? dist.state().best_design : dist.ranking().front();
+  const int best = dist.leading_design();
   const Eigen::Vector2d mu = dist.mean_pressures_kPa(best), sg = dist.sigma_pressures_kPa(best);
   logs.distribution->row({num(rep.k), num(rep.t), to_string(dist.phase(rep.t)), num(rep.beta), num(dist.entropy(rep.t)),
                           num(order[0]), num(q[order[0]]), num(order[1]), num(q[order[1]]), num(order[2]),
@@ -131,14 +131,11 @@ void log_iteration(Logs& logs, const IterationReport& rep, const DesignDistribut
   std::vector<std::string> row{num(rep.k), num(rep.t)};
   for (Eigen::Index j = 0; j < q.size(); ++j) row.push_back(num(q[j]));
   logs.q->row(row);
-  std::vector<double> first_return(rep.samples.size(), 0.0);
-  for (const EpisodeRecord& e : rep.episodes)
-    if (e.first) first_return[static_cast<std::size_t>(e.env)] = e.episode_return;
   for (std::size_t i = 0; i < rep.samples.size(); ++i) {
     const DesignSample& s = rep.samples[i];
     const Eigen::Vector2d m = dist.mean_pressures_kPa(s.design), sd = dist.sigma_pressures_kPa(s.design);
     logs.sampled->row({num(rep.k), num(rep.t), num(static_cast<std::int64_t>(i)), num(s.design),
-                       num(s.pressures_kPa[0]), num(s.pressures_kPa[1]), num(first_return[i]), num(m[0]), num(m[1]),
+                       num(s.pressures_kPa[0]), num(s.pressures_kPa[1]), num(rep.returns[i]), num(m[0]), num(m[1]),
                        num(sd[0]), num(sd[1])});
   }
 }
@@ -196,7 +193,7 @@ void publish_iteration(io::Telemetry& tel, const IterationReport& rep, const Des
   q.entropy = dist.entropy(rep.t);
   const Eigen::VectorXd prob = dist.probabilities(rep.t);
   for (Eigen::Index j = 0; j < prob.size() && j < 110; ++j) q.probabilities[j] = prob[j];
-  const int best = dist.state().collapsed ? dist.state().best_design : dist.ranking().front();
+  const int best = dist.leading_design();
   const Eigen::Vector2d mu = dist.mean_pressures_kPa(best), sg = dist.sigma_pressures_kPa(best);
   q.best_design = best;
   q.best_score = dist.state().score[best];
@@ -349,18 +346,14 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     if (options.progress && (el - last_print >= (tty ? 0.5 : 10.0) || loop.finished())) {
       last_print = el;
       const DesignDistribution& d = loop.distribution();
-      const int best = c.baseline == Baseline::SingleDesign ? c.single_design_index
-                       : d.state().collapsed                ? d.state().best_design
-                                                            : d.ranking().front();
-      double mean_first = 0.0;
-      int nfirst = 0;
-      for (const EpisodeRecord& e : rep.episodes)
-        if (e.first) mean_first += e.episode_return, ++nfirst;
+      const int best = c.baseline == Baseline::SingleDesign ? c.single_design_index : d.leading_design();
+      const double mean_first = std::accumulate(rep.returns.begin(), rep.returns.end(), 0.0) /
+                                static_cast<double>(std::max<std::size_t>(1, rep.returns.size()));
       std::printf("%st %lld/%lld (%.1f%%) | %.0f steps/s | ETA %s | %s | mean return %.2f | best %s R^ %.2f%s",
                   tty ? "\r" : "", static_cast<long long>(rep.t), static_cast<long long>(T),
                   100.0 * static_cast<double>(rep.t) / static_cast<double>(T), rate,
                   duration(static_cast<double>(T - rep.t) / std::max(rate, 1e-9)).c_str(), to_string(d.phase(rep.t)),
-                  mean_first / std::max(1, nfirst), design_label(best).c_str(), d.state().score[best],
+                  mean_first, design_label(best).c_str(), d.state().score[best],
                   tty ? "   " : "\n");
       std::fflush(stdout);
     }
@@ -379,12 +372,12 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   EpisodeSetup best, runner;
   bool has_runner = true;
   if (c.baseline == Baseline::SingleDesign) {
-    best = {c.single_design_index, c.single_design_p1_kPa,
-            fem::design_from_index(c.single_design_index).n >= 2 ? c.single_design_p2_kPa : 0.0, 0.0, 0.0};
+    const DesignSample d = single_design(c);
+    best = {d.design, d.pressures_kPa[0], d.pressures_kPa[1], 0.0, 0.0};
     has_runner = false;
   } else {
     const std::vector<int> rank = dist.ranking();
-    const int jb = dist.state().collapsed ? dist.state().best_design : rank[0];
+    const int jb = dist.leading_design();
     const Eigen::Vector2d pb = dist.state().collapsed ? dist.pressures_kPa(dist.state().best_latent, jb)
                                                       : dist.mean_pressures_kPa(jb);
     best = {jb, pb[0], pb[1], 0.0, 0.0};
