@@ -12,6 +12,7 @@ PACKAGES=(
   libosmesa6-dev libpng-dev
   libgmsh-dev libtomlplusplus-dev libcli11-dev
   libgtest-dev libbenchmark-dev
+  gnuplot-nox
 )
 
 missing=()

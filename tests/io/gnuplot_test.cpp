@@ -2,6 +2,7 @@
 // script, and (when gnuplot is installed) values arriving in the script literally.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -124,8 +125,8 @@ TEST_F(GnuplotTest, ChildReceivesTheArgumentVectorWithoutAShell) {
   const io::GnuplotOutcome r = io::run_gnuplot(call);
   ASSERT_TRUE(r.ok()) << r.message();
   EXPECT_EQ(r.exit_code, 0);
-  std::string quoted = kHostile;
-  for (std::size_t i = 0; (i = quoted.find('\'', i)) != std::string::npos; i += 2) quoted.insert(i, "'");
+  std::string quoted;  // gnuplot's single-quoted form: every ' doubled
+  for (const char c : kHostile) quoted += c == '\'' ? std::string("''") : std::string(1, c);
   EXPECT_EQ(r.output, "[-e]\n[name = '" + quoted + "']\n[" + call.script + "]\n");
   EXPECT_FALSE(fs::exists("pwned"));
   EXPECT_FALSE(fs::exists("pwned2"));
