@@ -1,8 +1,9 @@
-// `codesign run --config run.toml [-o runs/NAME] [--resume] [--force] [--threads N] [--quiet]`
+// `codesign run --config run.toml [-o runs/NAME] [--resume] [--force] [--threads N] [--quiet] [--no-figures]`
 // (also the main job: `codesign --config run.toml -o runs/NAME`).
 //
 // Runs the co-design (Algorithm 1 + 2) of the config's [codesign], [task], [ppo] and simulator
-// tables, writing the run folder described in src/codesign/run.hpp.
+// tables, writing the run folder described in src/codesign/run.hpp, then its figures
+// (`codesign figures`, cmd_figures.cpp) into RUN/figures/.
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -28,6 +29,7 @@ struct RunCliOptions {
   long long stop_after = -1;
   bool quiet = false;
   std::optional<std::string> telemetry;
+  bool no_figures = false;
 };
 
 std::string read_text(const std::string& path) {
@@ -57,6 +59,8 @@ int run_main_job(const RunCliOptions& o) {
   ro.stop_after = o.stop_after;
   ro.telemetry_url = o.telemetry ? *o.telemetry : setup.telemetry_url;
   const coopt::RunResult r = coopt::run_codesign(s, ro);
+  // The paper's figures from the finished run (RUN/figures/); a problem there is a warning only.
+  if (r.completed && !o.no_figures) draw_run_figures(out);
   return r.completed ? 0 : 4;
 }
 
@@ -76,6 +80,7 @@ void add_run_command(CLI::App& root, Runner& run) {
                   "stop (checkpointed, exit status 4) after the iteration reaching this many timesteps; for tests")
       ->check(CLI::Range(0LL, 1LL << 40));
   cmd->add_flag("--quiet", opt->quiet, "no progress line");
+  cmd->add_flag("--no-figures", opt->no_figures, "do not draw RUN/figures/ at the end (see `codesign figures`)");
   cmd->add_option("--telemetry", opt->telemetry,
                   "LCM URL for live telemetry, overriding [telemetry] url (\"\" = off; see docs/telemetry.md)");
   cmd->callback([opt, &run] { run = [opt] { return run_main_job(*opt); }; });

@@ -5,6 +5,7 @@
 // Errors in user input are thrown as codesign::InputError (base/errors.hpp); main prints them
 // and exits with 2.
 #include <functional>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -17,6 +18,11 @@ void add_survey_command(CLI::App& root, Runner& run);     // cmd_survey.cpp
 void add_mesh_command(CLI::App& root, Runner& run);       // cmd_mesh.cpp
 void add_sim_command(CLI::App& root, Runner& run);        // cmd_sim.cpp
 void add_train_gym_command(CLI::App& root, Runner& run);  // cmd_train_gym.cpp
+void add_figures_command(CLI::App& root, Runner& run);    // cmd_figures.cpp
+// The figures of a finished run into RUN/figures/ (cmd_figures.cpp), called at the end of
+// `codesign run`: never throws; a missing gnuplot or a failing script is one warning line on
+// stderr. Returns true if every figure was drawn.
+bool draw_run_figures(const std::string& run_dir);
 // `codesign bench <what>`: main.cpp creates the `bench` parent.
 void add_bench_fem_command(CLI::App& bench, Runner& run);  // bench_fem.cpp
 void add_bench_ppo_command(CLI::App& bench, Runner& run);  // bench_ppo.cpp

@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   app::add_mesh_command(root, run);
   app::add_sim_command(root, run);
   app::add_train_gym_command(root, run);
+  app::add_figures_command(root, run);
   CLI::App* bench = root.add_subcommand("bench", "Speed benchmarks that print figures and ratios");
   bench->require_subcommand(1);
   app::add_bench_fem_command(*bench, run);

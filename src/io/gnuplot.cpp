@@ -128,17 +128,18 @@ std::string GnuplotOutcome::message() const {
       break;
   }
   // The first lines of gnuplot's output carry the error and the offending script line.
+  // Non-blank lines joined with " | ", at most 6.
   std::string head;
   int lines = 0;
-  for (const char c : output) {
-    if (c == '\n') {
-      if (++lines == 6) break;
-      head += " | ";
-      continue;
-    }
-    head += c;
+  std::size_t start = 0;
+  while (start < output.size() && lines < 6) {
+    std::size_t end = output.find('\n', start);
+    if (end == std::string::npos) end = output.size();
+    const std::string line = output.substr(start, end - start);
+    start = end + 1;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    head += (lines++ ? " | " : "") + line;
   }
-  while (head.size() >= 3 && head.compare(head.size() - 3, 3, " | ") == 0) head.resize(head.size() - 3);
   std::string m = "gnuplot failed on " + script;
   m += exit_code >= 0 ? " (exit status " + std::to_string(exit_code) + ")" : " (killed by a signal)";
   if (!head.empty()) m += ": " + head;
