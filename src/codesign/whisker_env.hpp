@@ -85,7 +85,8 @@ class WhiskerEnv final : public rl::Env {
   int decisions_taken() const { return decision_; }
   // Decisions so far whose force ended inside the band.
   int decisions_in_band() const { return in_band_; }
-  // Seconds spent in settling (reset) and in simulation steps since construction.
+  // CPU seconds of the calling thread spent in settling (reset) and in simulation steps since
+  // construction (thread CPU time: other processes on the machine do not inflate them).
   double settle_seconds() const { return settle_s_; }
   double step_seconds() const { return step_s_; }
   // The simulator of the current episode (valid after reset()).

@@ -77,8 +77,23 @@ struct Simulator::Impl {
   // across reset()), cur = refactorised later at a deformed state.
   struct RefSlot {
     Reference rest, cur;
-    bool use_cur = false;
+    enum class Use { Rest, Cur, Settled } use = Use::Rest;
   } slots[2];
+  // The dynamic factor built at the end of the last settle(), kept apart from `cur` (which later
+  // refactorisations overwrite) so that restoring a snapshot of that settled state reuses it
+  // instead of factorising the same matrix again. `settled_token` identifies it: a new token per
+  // settle, shared with the snapshots taken while the factor was the one in use.
+  Reference settled;
+  std::shared_ptr<const int> settled_token;
+
+  Reference& active(RefSlot& sl) {
+    switch (sl.use) {
+      case RefSlot::Use::Cur: return sl.cur;
+      case RefSlot::Use::Settled: return settled;
+      case RefSlot::Use::Rest: break;
+    }
+    return sl.rest;
+  }
   Eigen::VectorXd work_b, work_r, work_u, work_y;
   std::vector<Eigen::Matrix3d> node_rot, warp;  // per free node (fast method)
   std::vector<Eigen::Quaterniond> node_qrot;
@@ -118,7 +133,7 @@ struct Simulator::Impl {
     contacts.clear();
     was_active.assign(model->contact_nodes.size(), 0);
     broken = false;
-    for (RefSlot& sl : slots) sl.use_cur = false;
+    for (RefSlot& sl : slots) sl.use = RefSlot::Use::Rest;
   }
 
   double plate_at(double time) const {
@@ -473,7 +488,7 @@ struct Simulator::Impl {
       if (!ok) return fail(StepStatus::SolverFailure, "CHOLMOD factorisation of the reference matrix failed");
       res.refactorised = true;
     }
-    Reference& ref = sl.use_cur ? sl.cur : sl.rest;
+    Reference& ref = active(sl);
     update_node_rotations();
     update_warp(ref);
     const auto& cn = model->contact_nodes;
@@ -596,7 +611,7 @@ struct Simulator::Impl {
     if (total_iterations > solver.fast_refactor_iterations) {
       // The stored factor has drifted from the current matrix: refactorise at this state.
       if (!build_reference(sl.cur, dt)) return fail(StepStatus::SolverFailure, "CHOLMOD refactorisation failed");
-      sl.use_cur = true;
+      sl.use = RefSlot::Use::Cur;
       res.refactorised = true;
     }
     return res;
@@ -620,6 +635,9 @@ struct Simulator::Snapshot::Data {
   std::vector<Eigen::Quaterniond> node_qrot;
   std::vector<Eigen::Matrix3d> node_rot;
   bool dynamic_cur = false;  // the dynamic step had a factor at a deformed state
+  // Set when that factor was the one built by settle(): restore() into the same simulator then
+  // reuses it while the simulator still holds it (same token).
+  std::shared_ptr<const int> settled_token;
 };
 
 // ---------------------------------------------------------------- public wrapper
@@ -652,8 +670,10 @@ StepResult Simulator::settle() {
     const StepStatus fs = m.force_pass(m.x, ff, why);
     if (fs != StepStatus::Ok) return m.fail(fs, why);
     Impl::RefSlot& sl = m.slot(true);
-    if (!m.build_reference(sl.cur, m.solver.dt_s)) return m.fail(StepStatus::SolverFailure, "CHOLMOD factorisation at the settled state failed");
-    sl.use_cur = true;
+    m.settled_token.reset();
+    if (!m.build_reference(m.settled, m.solver.dt_s)) return m.fail(StepStatus::SolverFailure, "CHOLMOD factorisation at the settled state failed");
+    m.settled_token = std::make_shared<const int>(0);
+    sl.use = Impl::RefSlot::Use::Settled;
     last.refactorised = true;
   }
   // Dynamic time starts at t = 0 with the plate at z0 + U sin(phase).
@@ -694,7 +714,8 @@ Simulator::Snapshot Simulator::snapshot() const {
   d->z_touch = m.z_touch, d->z_mean = m.z_mean, d->plate_phase_rad = m.scene.plate_phase_rad;
   d->contacts = m.contacts, d->was_active = m.was_active;
   d->node_qrot = m.node_qrot, d->node_rot = m.node_rot;
-  d->dynamic_cur = m.slots[0].use_cur;
+  d->dynamic_cur = m.slots[0].use != Impl::RefSlot::Use::Rest;
+  if (m.slots[0].use == Impl::RefSlot::Use::Settled) d->settled_token = m.settled_token;
   Snapshot s;
   s.data_ = std::move(d);
   return s;
@@ -715,15 +736,19 @@ StepResult Simulator::restore(const Snapshot& snapshot) {
   m.contacts = d.contacts, m.was_active = d.was_active;
   m.node_qrot = d.node_qrot, m.node_rot = d.node_rot;
   m.broken = false;
-  for (Impl::RefSlot& sl : m.slots) sl.use_cur = false;
+  for (Impl::RefSlot& sl : m.slots) sl.use = Impl::RefSlot::Use::Rest;
   StepResult r;
-  if (m.solver.method == StepMethod::Fast && d.dynamic_cur) {
+  if (m.solver.method == StepMethod::Fast && d.settled_token && d.settled_token == m.settled_token) {
+    // The factor settle() built at exactly this state is still here: the same matrix, so the
+    // same factor a refactorisation would give (bit-identical), without its cost.
+    m.slots[0].use = Impl::RefSlot::Use::Settled;
+  } else if (m.solver.method == StepMethod::Fast && d.dynamic_cur) {
     // The factor depends only on x and the element rotations (restored above), as at the end
     // of settle(); the node rotations it stores come from the restored quaternions.
     Impl::RefSlot& sl = m.slot(true);
     if (!m.build_reference(sl.cur, m.solver.dt_s))
       return m.fail(StepStatus::SolverFailure, "CHOLMOD factorisation at the restored state failed");
-    sl.use_cur = true;
+    sl.use = Impl::RefSlot::Use::Cur;
     r.refactorised = true;
   }
   return r;

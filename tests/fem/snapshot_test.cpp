@@ -56,6 +56,30 @@ TEST(Snapshot, RestoreRepeatsTheStepsBitForBit) {
   EXPECT_TRUE(first.x == other.x);
 }
 
+// An episode restarted from the state settle() left (what the whisker task does after an early
+// termination) reuses the factor settle() built there instead of factorising it again, and
+// still repeats the steps bit for bit; the steps in between refactorised (large turns), so the
+// reused factor is not simply the one in use.
+TEST(Snapshot, RestoringTheLastSettledStateReusesItsFactor) {
+  const auto model = build_whisker_model(21, WhiskerModelSpec{});
+  Simulator a(model, SceneConfig{}, SolverConfig{});
+  a.set_pressures_kPa(4.0, 0.0);
+  a.set_plate_phase(1.0);
+  ASSERT_TRUE(a.settle().ok());
+  const Simulator::Snapshot snap = a.snapshot();
+  const int after_settle = a.factorisations();
+  const Trace first = steps(a);
+  ASSERT_GT(a.factorisations(), after_settle) << "the turns should have forced a refactorisation";
+  const int before_restore = a.factorisations();
+  const StepResult r = a.restore(snap);
+  ASSERT_TRUE(r.ok());
+  EXPECT_FALSE(r.refactorised);
+  EXPECT_EQ(a.factorisations(), before_restore);
+  const Trace again = steps(a);
+  EXPECT_EQ(first.force, again.force);
+  EXPECT_TRUE(first.x == again.x);
+}
+
 TEST(Snapshot, RejectsEmptyOrForeignSnapshots) {
   const auto m21 = build_whisker_model(21, WhiskerModelSpec{});
   const auto m63 = build_whisker_model(63, WhiskerModelSpec{});
