@@ -5,7 +5,9 @@
 //    base held at θ0 ∈ {−θ_max, 0, +θ_max} and the pressure corners of [0, p_max] (both
 //    chambers for n = 2), plate phase 0;
 //  * the best fixed base angle θ0 (coopt::best_fixed_theta at zero pressure over N plate
-//    phases) and its return and band fraction — the no-controller baseline.
+//    phases) and its return and band fraction — the no-controller baseline;
+//  * the reference range of the zeroed strain ε − ε₀ ([task] strain_offset = "inflated") over the
+//    same episodes as the first point.
 // Writes DIR/survey.csv (one row per design) and prints the suggested [task] strain_min /
 // strain_max (the measured range widened by 10 % on each side) and a summary.
 #include <algorithm>
@@ -43,6 +45,7 @@ struct SurveyOptions {
 
 struct DesignRow {
   double strain_min = 1e300, strain_max = -1e300;
+  double zeroed_min = 1e300, zeroed_max = -1e300;
   double force_mean = 0.0, force_min = 1e300, force_max = -1e300;
   coopt::FixedThetaResult fixed;
 };
@@ -69,6 +72,8 @@ int run_survey(const SurveyOptions& o) {
 
   auto sims = std::make_shared<coopt::SimulatorPool>(setup.spec, setup.scene, setup.solver);
   const coopt::TaskConfig& task = setup.task;
+  coopt::TaskConfig zeroed_task = task;  // the same episodes, with ε₀ computed for each
+  zeroed_task.strain_offset = coopt::StrainOffset::Inflated;
   const double pmax = task.pressure_max_kPa;
   const int count = last - first + 1;
   std::vector<DesignRow> rows(static_cast<std::size_t>(count));
@@ -86,10 +91,12 @@ int run_survey(const SurveyOptions& o) {
     for (const auto& [p1, p2] : ps)
       for (double th : {-task.theta_max_rad, 0.0, task.theta_max_rad}) {
         const coopt::DesignEvaluation e =
-            coopt::evaluate_design(nullptr, sims, task, {j, p1, p2, 0.0, th}, eo);
+            coopt::evaluate_design(nullptr, sims, zeroed_task, {j, p1, p2, 0.0, th}, eo);
         for (const coopt::TraceRow& r : e.trace) {
           row.strain_min = std::min(row.strain_min, r.strain);
           row.strain_max = std::max(row.strain_max, r.strain);
+          row.zeroed_min = std::min(row.zeroed_min, r.strain - r.strain_zero);
+          row.zeroed_max = std::max(row.zeroed_max, r.strain - r.strain_zero);
         }
         if (p1 == 0.0 && p2 == 0.0 && th == 0.0) {
           double sum = 0.0;
@@ -107,7 +114,8 @@ int run_survey(const SurveyOptions& o) {
   using io::CsvLog;
   io::write_file_atomically((dir / "survey.csv").string(), [&](std::ostream& out) {
     out << "j,n,l_mm,w_mm,strain_min,strain_max,force_mean_mN,force_min_mN,force_max_mN,best_theta0_deg,"
-           "fixed_theta_return,fixed_theta_return_std,fixed_theta_band_fraction,fixed_theta_episodes\n";
+           "fixed_theta_return,fixed_theta_return_std,fixed_theta_band_fraction,fixed_theta_episodes,"
+           "zeroed_strain_min,zeroed_strain_max\n";
     for (int i = 0; i < count; ++i) {
       const int j = first + i;
       const fem::Design d = fem::design_from_index(j);
@@ -116,7 +124,8 @@ int run_survey(const SurveyOptions& o) {
           << ',' << CsvLog::num(r.strain_max) << ',' << CsvLog::num(r.force_mean) << ',' << CsvLog::num(r.force_min)
           << ',' << CsvLog::num(r.force_max) << ',' << CsvLog::num(r.fixed.theta0_rad * 180.0 / std::numbers::pi)
           << ',' << CsvLog::num(r.fixed.evaluation.mean_return) << ',' << CsvLog::num(r.fixed.evaluation.std_return)
-          << ',' << CsvLog::num(r.fixed.evaluation.mean_band_fraction) << ',' << r.fixed.evaluations << '\n';
+          << ',' << CsvLog::num(r.fixed.evaluation.mean_band_fraction) << ',' << r.fixed.evaluations << ','
+          << CsvLog::num(r.zeroed_min) << ',' << CsvLog::num(r.zeroed_max) << '\n';
     }
   });
   double lo = 1e300, hi = -1e300;
@@ -125,6 +134,12 @@ int run_survey(const SurveyOptions& o) {
   std::printf("survey: strain over all episodes in [%.6g, %.6g]\n", lo, hi);
   std::printf("survey: suggested [task] strain_min = %.4g, strain_max = %.4g (range widened by 10 %% each side)\n",
               lo - pad, hi + pad);
+  double zlo = 1e300, zhi = -1e300;
+  for (const DesignRow& r : rows) zlo = std::min(zlo, r.zeroed_min), zhi = std::max(zhi, r.zeroed_max);
+  const double zpad = 0.1 * (zhi - zlo);
+  std::printf("survey: zeroed strain (eps - eps0) over all episodes in [%.6g, %.6g]\n", zlo, zhi);
+  std::printf("survey: suggested [task] zeroed_strain_min = %.4g, zeroed_strain_max = %.4g (widened by 10 %% each side)\n",
+              zlo - zpad, zhi + zpad);
   if (o.fixed_theta) {
     std::vector<double> ret, band;
     int best_j = first;

@@ -30,6 +30,12 @@ TaskConfig read_task_config(io::TableReader& root) {
   c.strain_max = t.number("strain_max", c.strain_max, -1.0, 1.0);
   if (!(c.strain_max > c.strain_min))
     t.fail("strain_max", "must exceed task.strain_min (" + std::to_string(c.strain_min) + ")");
+  const std::string off = t.string("strain_offset", to_string(c.strain_offset), {"none", "inflated"});
+  c.strain_offset = off == "inflated" ? StrainOffset::Inflated : StrainOffset::None;
+  c.zeroed_strain_min = t.number("zeroed_strain_min", c.zeroed_strain_min, -1.0, 1.0);
+  c.zeroed_strain_max = t.number("zeroed_strain_max", c.zeroed_strain_max, -1.0, 1.0);
+  if (!(c.zeroed_strain_max > c.zeroed_strain_min))
+    t.fail("zeroed_strain_max", "must exceed task.zeroed_strain_min (" + std::to_string(c.zeroed_strain_min) + ")");
   c.pressure_max_kPa = t.number("pressure_max_kPa", c.pressure_max_kPa, 1e-3, 100.0);
   t.finish();
   return c;

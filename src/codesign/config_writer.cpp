@@ -20,6 +20,9 @@ void write_task_table(std::ostream& out, const TaskConfig& c) {
   t.string("observation", to_string(c.observation));
   t.number("strain_min", c.strain_min);
   t.number("strain_max", c.strain_max);
+  t.string("strain_offset", to_string(c.strain_offset));
+  t.number("zeroed_strain_min", c.zeroed_strain_min);
+  t.number("zeroed_strain_max", c.zeroed_strain_max);
   t.number("pressure_max_kPa", c.pressure_max_kPa);
 }
 

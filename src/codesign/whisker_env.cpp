@@ -93,11 +93,14 @@ Eigen::VectorXd WhiskerEnv::reset(std::optional<std::uint64_t> /*seed*/) {
     r = sim_->restore(settled_);
   } else {
     settled_setup_.reset();
-    sim_->reset();
-    sim_->set_pressures_kPa(setup_.p1_kPa, setup_.p2_kPa);
-    sim_->set_plate_phase(setup_.plate_phase_rad);
-    if (setup_.theta0_rad != 0.0) sim_->set_base_angle(setup_.theta0_rad);
-    r = sim_->settle();
+    r = update_strain_zero();
+    if (r.ok()) {
+      sim_->reset();
+      sim_->set_pressures_kPa(setup_.p1_kPa, setup_.p2_kPa);
+      sim_->set_plate_phase(setup_.plate_phase_rad);
+      if (setup_.theta0_rad != 0.0) sim_->set_base_angle(setup_.theta0_rad);
+      r = sim_->settle();
+    }
     if (r.ok()) {
       settled_ = sim_->snapshot();
       settled_setup_ = setup_;
@@ -107,6 +110,31 @@ Eigen::VectorXd WhiskerEnv::reset(std::optional<std::uint64_t> /*seed*/) {
   reset_failure_ = r.ok() ? std::string() : std::string(fem::to_string(r.status)) + ": " + r.reason;
   if (recording_ && r.ok()) record(0.0);
   return observe();
+}
+
+fem::StepResult WhiskerEnv::update_strain_zero() {
+  if (task_.strain_offset != StrainOffset::Inflated) {
+    strain_zero_ = 0.0;
+    return {};
+  }
+  const double p2 = fem::design_from_index(setup_.design).n >= 2 ? setup_.p2_kPa : 0.0;
+  const std::array<double, 3> key{static_cast<double>(setup_.design), setup_.p1_kPa, p2};
+  if (strain_zero_key_ && *strain_zero_key_ == key) return {};
+  strain_zero_key_.reset();
+  // The same quasi-static loading as an episode's settle, with the plate far below the tip (a
+  // metre: out of reach of any design at any angle), so the body ends inflated and free.
+  constexpr double kPlateAway_mm = 1000.0;
+  sim_->reset();
+  sim_->set_pressures_kPa(setup_.p1_kPa, p2);
+  sim_->set_plate_mean_z(sim_->plate_touch_z() - kPlateAway_mm);
+  fem::StepResult r = sim_->settle();
+  if (!r.ok()) {
+    r.reason = "zeroing the strain sensor: " + r.reason;
+    return r;
+  }
+  strain_zero_ = sim_->sensors().axial_strain;
+  strain_zero_key_ = key;
+  return r;
 }
 
 Eigen::VectorXd WhiskerEnv::observe() const {
@@ -123,7 +151,9 @@ Eigen::VectorXd WhiskerEnv::observe() const {
     case ObservationSet::Paper:
     case ObservationSet::Proprioceptive:
       o.head<6>() << j[0], j[1], j[2], scaled(setup_.p1_kPa, 0.0, pmax), scaled(p2, 0.0, pmax),
-          scaled(s.axial_strain, task_.strain_min, task_.strain_max);
+          task_.strain_offset == StrainOffset::Inflated
+              ? scaled(s.axial_strain - strain_zero_, task_.zeroed_strain_min, task_.zeroed_strain_max)
+              : scaled(s.axial_strain, task_.strain_min, task_.strain_max);
       if (task_.observation == ObservationSet::Proprioceptive) {
         const double lim = sim_->scene().theta_limit_deg * std::numbers::pi / 180.0;
         o[6] = scaled(s.theta_rad, -lim, lim);
@@ -137,7 +167,7 @@ Eigen::VectorXd WhiskerEnv::observe() const {
 void WhiskerEnv::record(double action) {
   const fem::Sensors s = sim_->sensors();
   trace_.push_back({decision_, s.time_s, s.theta_rad, s.contact_force_mN, s.axial_strain, s.tip_position_mm,
-                    s.plate_z_mm, action});
+                    s.plate_z_mm, action, strain_zero_});
 }
 
 rl::StepResult WhiskerEnv::step(const Eigen::VectorXd& action) {

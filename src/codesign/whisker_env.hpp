@@ -19,8 +19,12 @@
 //   paper          {n, l, w, p1, p2, ε}        (6)  the paper's s = {j, p, ε}
 //   proprioceptive {n, l, w, p1, p2, ε, θ}     (7)  ours: the motor encoder's θ added
 //   no_feedback    {p1, p2}                    (2)  the paper's baseline: ε and morphology removed
+// With TaskConfig::strain_offset = Inflated the ε component is ε − ε₀ (task_config.hpp): ε₀ comes
+// from a settle of the same design and pressures with the plate out of reach, once per
+// (design, pressures) on this environment.
 // The env draws no random numbers: the caller chooses design, pressures and plate phase
 // (EpisodeSetup) before reset(); reset()'s seed is ignored.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -56,6 +60,7 @@ struct TraceRow {
   Eigen::Vector3d tip_mm = Eigen::Vector3d::Zero();
   double plate_z_mm = 0.0;
   double action = 0.0;          // the (clipped) action being applied
+  double strain_zero = 0.0;     // ε₀ subtracted from ε in the observation (0 unless "inflated")
 };
 
 // r_f of SPEC §3 for a force F.
@@ -95,6 +100,9 @@ class WhiskerEnv final : public rl::Env {
  private:
   Eigen::VectorXd observe() const;
   void record(double action);
+  // Computes ε₀ for the current setup if strain_offset = Inflated and it is not known yet
+  // (leaves the simulator in a state that needs reset()).
+  fem::StepResult update_strain_zero();
 
   std::shared_ptr<SimulatorPool> pool_;
   TaskConfig task_;
@@ -108,6 +116,9 @@ class WhiskerEnv final : public rl::Env {
   std::optional<EpisodeSetup> settled_setup_;
   fem::Simulator::Snapshot settled_;
   std::string reset_failure_;   // non-empty: settling failed; the first step terminates
+  // ε₀ of strain_offset = Inflated, for the (design, p1, p2) in strain_zero_key_.
+  std::optional<std::array<double, 3>> strain_zero_key_;
+  double strain_zero_ = 0.0;
   int decision_ = 0;
   int in_band_ = 0;
   double last_dtheta_ = 0.0;

@@ -47,6 +47,11 @@ TEST(ConfigReader, BaselineSwitch) {
 TEST(ConfigReader, StrainRangeMustBeOrdered) {
   EXPECT_EQ(error_of("[task]\nstrain_min = 0.1\nstrain_max = 0.05\n", true),
             "run.toml: task.strain_max: must exceed task.strain_min (0.100000)");
+  EXPECT_EQ(error_of("[task]\nzeroed_strain_min = 0.001\nzeroed_strain_max = -0.001\n", true),
+            "run.toml: task.zeroed_strain_max: must exceed task.zeroed_strain_min (0.001000)");
+  const std::string off = error_of("[task]\nstrain_offset = \"zero\"\n", true);
+  EXPECT_NE(off.find("task.strain_offset"), std::string::npos) << off;
+  EXPECT_NE(off.find("inflated"), std::string::npos) << off;
 }
 
 TEST(ConfigReader, NoThetaLimitOfItsOwn) {

@@ -50,6 +50,9 @@ void expect_same(const TaskConfig& a, const TaskConfig& b) {
   EXPECT_EQ(a.observation, b.observation);
   EXPECT_EQ(a.strain_min, b.strain_min);
   EXPECT_EQ(a.strain_max, b.strain_max);
+  EXPECT_EQ(a.strain_offset, b.strain_offset);
+  EXPECT_EQ(a.zeroed_strain_min, b.zeroed_strain_min);
+  EXPECT_EQ(a.zeroed_strain_max, b.zeroed_strain_max);
   EXPECT_EQ(a.pressure_max_kPa, b.pressure_max_kPa);
 }
 
@@ -139,6 +142,9 @@ flip_penalty = 0.12
 observation = "proprioceptive"
 strain_min = -0.01
 strain_max = 0.05
+strain_offset = "inflated"
+zeroed_strain_min = -0.0011
+zeroed_strain_max = 0.0002
 pressure_max_kPa = 15.0
 [codesign]
 total_timesteps = 500000

@@ -160,3 +160,59 @@ TEST(WhiskerEnv, EpisodeDoesNotDependOnEarlierEpisodes) {
 }
 
 }  // namespace
+
+namespace {
+
+// strain_offset = "inflated": the ε component is ε − ε₀ with ε₀ the strain of the same design at
+// the same pressure out of contact, computed here independently with a bare simulator.
+TEST(WhiskerEnv, InflatedStrainOffsetSubtractsTheFreeStrainAtThePressures) {
+  TaskConfig t;
+  t.strain_offset = coopt::StrainOffset::Inflated;
+  WhiskerEnv env(pool(), t);
+  const EpisodeSetup s{21, 8.0, 0.0, 0.3, 0.0};
+  env.set_episode(s);
+  const Eigen::VectorXd obs = env.reset(std::nullopt);
+
+  fem::Simulator free(pool()->model(21), pool()->scene(), pool()->solver());
+  free.set_pressures_kPa(8.0, 0.0);
+  free.set_plate_mean_z(free.plate_touch_z() - 1000.0);
+  ASSERT_TRUE(free.settle().ok());
+  const double eps0 = free.sensors().axial_strain;
+  // The settle is converged: more static steps move ε₀ by far less than the band, whose half
+  // width is ±4 mN × 4.7e-6 per mN ≈ 1.9e-5 of strain (docs/codesign.md); 1 % of it is 1.9e-7.
+  for (int k = 0; k < 20; ++k) ASSERT_TRUE(free.static_step().ok());
+  EXPECT_NEAR(free.sensors().axial_strain, eps0, 1.9e-7);
+  EXPECT_GT(eps0, 1e-3) << "8 kPa inflates the chamber";
+
+  const double eps = env.simulator().sensors().axial_strain;
+  const double expected = 2.0 * (eps - eps0 - t.zeroed_strain_min) / (t.zeroed_strain_max - t.zeroed_strain_min) - 1.0;
+  EXPECT_NEAR(obs[5], expected, 1e-12);
+  // Contact at the settled state moves ε by a small amount only: |ε − ε₀| is under 1e-3 while
+  // ε itself is above 1e-3 (the inflation), which is the point of zeroing.
+  EXPECT_LT(std::abs(eps - eps0), 1e-3);
+  EXPECT_NE(eps, eps0);
+
+  // A second episode with the same design and pressure (another phase) reuses ε₀; one at another
+  // pressure computes it again. Both observations match the by-hand value.
+  env.set_episode({21, 8.0, 0.0, 2.0, 0.0});
+  const Eigen::VectorXd obs2 = env.reset(std::nullopt);
+  const double eps2 = env.simulator().sensors().axial_strain;
+  EXPECT_NEAR(obs2[5], 2.0 * (eps2 - eps0 - t.zeroed_strain_min) / (t.zeroed_strain_max - t.zeroed_strain_min) - 1.0,
+              1e-12);
+}
+
+// Zeroing happens on the environment's own simulator; the episode that follows must still not
+// depend on it: the same setup on a fresh environment without the offset gives the same forces.
+TEST(WhiskerEnv, InflatedStrainOffsetDoesNotChangeTheEpisode) {
+  TaskConfig zeroed, raw;
+  zeroed.strain_offset = coopt::StrainOffset::Inflated;
+  raw.strain_offset = coopt::StrainOffset::None;
+  WhiskerEnv a(pool(), zeroed);
+  WhiskerEnv b(pool(), raw);
+  const EpisodeSetup s{40, 5.0, 3.0, 1.1, 0.0};
+  const std::vector<double> ra = episode(a, s, 0.02);
+  const std::vector<double> rb = episode(b, s, 0.02);
+  EXPECT_EQ(ra, rb);
+}
+
+}  // namespace
