@@ -42,6 +42,12 @@ std::string read_text(const std::string& path) {
 
 int run_main_job(const RunCliOptions& o) {
   const SimSetup setup = read_sim_setup(o.config);
+  // One rollout of ppo.n_steps decisions is one episode per environment (Algorithm 1).
+  const int decisions = setup.task.episode_steps / setup.task.action_hold_steps;
+  if (setup.ppo.n_steps != decisions)
+    throw InputError(o.config + ": ppo.n_steps: value " + std::to_string(setup.ppo.n_steps) +
+                     " must equal the decisions per episode, task.episode_steps / task.action_hold_steps = " +
+                     std::to_string(decisions));
   // Default run folder: runs/<config file name without extension>.
   const std::string out = o.out.empty() ? "runs/" + std::filesystem::path(o.config).stem().string() : o.out;
   coopt::RunSettings s;

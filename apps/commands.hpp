@@ -23,6 +23,7 @@ void add_figures_command(CLI::App& root, Runner& run);    // cmd_figures.cpp
 // `codesign run`: never throws; a missing gnuplot or a failing script is one warning line on
 // stderr. Returns true if every figure was drawn.
 bool draw_run_figures(const std::string& run_dir);
+void add_check_command(CLI::App& root, Runner& run);      // cmd_check.cpp
 // `codesign bench <what>`: main.cpp creates the `bench` parent.
 void add_bench_fem_command(CLI::App& bench, Runner& run);  // bench_fem.cpp
 void add_bench_ppo_command(CLI::App& bench, Runner& run);  // bench_ppo.cpp

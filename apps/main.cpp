@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   app::add_sim_command(root, run);
   app::add_train_gym_command(root, run);
   app::add_figures_command(root, run);
+  app::add_check_command(root, run);
   CLI::App* bench = root.add_subcommand("bench", "Speed benchmarks that print figures and ratios");
   bench->require_subcommand(1);
   app::add_bench_fem_command(*bench, run);
@@ -45,6 +46,19 @@ int main(int argc, char** argv) {
   app::add_bench_ppo_command(*bench, run);
 
   std::vector<std::string> args = with_default_command(argc, argv);
+  if (!args.empty() && !args.front().empty() && args.front().front() != '-') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* c : root.get_subcommands([](CLI::App*) { return true; })) {
+      known = known || c->get_name() == args.front();
+      names += (names.empty() ? "" : ", ") + c->get_name();
+    }
+    if (!known) {
+      std::fprintf(stderr, "codesign: error: unknown command '%s'; allowed: %s (codesign --help)\n",
+                   args.front().c_str(), names.c_str());
+      return 2;
+    }
+  }
   std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 parses a reversed vector
   try {
     root.parse(reversed);

@@ -9,6 +9,10 @@ namespace codesign::app {
 SimSetup read_sim_setup(const std::string& config_path) {
   io::TableReader root = config_path.empty() ? io::TableReader::from_string("", "(defaults)")
                                              : io::TableReader::from_file(config_path);
+  return read_sim_setup(root);
+}
+
+SimSetup read_sim_setup(io::TableReader& root) {
   SimSetup s;
   const io::FemTables fem = io::read_fem_tables(root);
   s.spec = fem.spec;

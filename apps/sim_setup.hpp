@@ -30,5 +30,7 @@ struct SimSetup {
 // the other known tables of a run config ([task], [codesign], [ppo]) so one file serves all
 // commands; then root.finish() (unknown tables/keys are errors). An empty path gives defaults.
 SimSetup read_sim_setup(const std::string& config_path);
+// The same from a parsed config (tests/fuzz/fuzz_config.cpp feeds it TOML text).
+SimSetup read_sim_setup(io::TableReader& root);
 
 }  // namespace codesign::app

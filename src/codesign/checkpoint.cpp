@@ -146,15 +146,20 @@ Checkpoint load_checkpoint(const std::string& path, std::uint64_t expected_finge
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("checkpoint " + path + ": cannot open");
   const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parse_checkpoint(bytes, path, expected_fingerprint);
+}
+
+Checkpoint parse_checkpoint(std::span<const unsigned char> bytes, const std::string& path,
+                            std::uint64_t expected_fingerprint) {
   if (bytes.size() < 8 + 4 + 8 + 8)
     throw InputError("checkpoint " + path + ": too short (" + std::to_string(bytes.size()) + " bytes)");
   if (std::memcmp(bytes.data(), kMagic, 8) != 0)
     throw InputError("checkpoint " + path + ": bad magic (not a codesign checkpoint)");
   std::uint64_t stored_sum;
   std::memcpy(&stored_sum, bytes.data() + bytes.size() - 8, 8);
-  if (rl::fnv1a64(std::span<const unsigned char>(bytes.data(), bytes.size() - 8)) != stored_sum)
+  if (rl::fnv1a64(bytes.first(bytes.size() - 8)) != stored_sum)
     throw InputError("checkpoint " + path + ": checksum mismatch (file damaged or truncated)");
-  Reader r(path, std::span<const unsigned char>(bytes.data() + 8, bytes.size() - 16));
+  Reader r(path, bytes.subspan(8, bytes.size() - 16));
   const auto version = r.pod<std::uint32_t>("version");
   if (version != kCheckpointVersion)
     r.fail("unsupported version " + std::to_string(version) + " (this build reads version " +

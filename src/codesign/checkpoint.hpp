@@ -16,6 +16,7 @@
 // fingerprint, and throws codesign::InputError naming the file and the defect.
 #include <cstdint>
 #include <map>
+#include <span>
 #include <string>
 
 #include "codesign/outer_loop.hpp"
@@ -34,6 +35,9 @@ struct Checkpoint {
 void save_checkpoint(const std::string& path, const Checkpoint& c);
 // expected_fingerprint: the fingerprint of the config the run is resumed with.
 Checkpoint load_checkpoint(const std::string& path, std::uint64_t expected_fingerprint);
+// The same from the bytes of a checkpoint file; `label` names the source in messages.
+Checkpoint parse_checkpoint(std::span<const unsigned char> bytes, const std::string& label,
+                            std::uint64_t expected_fingerprint);
 
 // FNV-1a 64 of a text (the config fingerprint).
 std::uint64_t fingerprint(const std::string& text);

@@ -38,6 +38,14 @@ TaskConfig read_task_config(io::TableReader& root) {
     t.fail("zeroed_strain_max", "must exceed task.zeroed_strain_min (" + std::to_string(c.zeroed_strain_min) + ")");
   c.pressure_max_kPa = t.number("pressure_max_kPa", c.pressure_max_kPa, 1e-3, 100.0);
   t.finish();
+  io::TableReader f = root.table("faults");
+  FaultConfig& fc = c.faults;
+  fc.nan_pressure_every = static_cast<int>(f.integer("nan_pressure_every", fc.nan_pressure_every, 0, 1'000'000));
+  fc.inverted_element_every =
+      static_cast<int>(f.integer("inverted_element_every", fc.inverted_element_every, 0, 1'000'000));
+  fc.at_decision = static_cast<int>(
+      f.integer("at_decision", fc.at_decision, 0, c.episode_steps / c.action_hold_steps - 1));
+  f.finish();
   return c;
 }
 

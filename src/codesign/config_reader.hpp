@@ -6,6 +6,7 @@
 
 namespace codesign::coopt {
 
+// [task], and [faults] into TaskConfig::faults.
 TaskConfig read_task_config(io::TableReader& root);
 // The [codesign] table; pressure ranges come from the task (read it first).
 CodesignConfig read_codesign_config(io::TableReader& root, const TaskConfig& task);

@@ -26,6 +26,13 @@ void write_task_table(std::ostream& out, const TaskConfig& c) {
   t.number("pressure_max_kPa", c.pressure_max_kPa);
 }
 
+void write_faults_table(std::ostream& out, const FaultConfig& c) {
+  io::TomlTableWriter t(out, "faults");
+  t.integer("nan_pressure_every", c.nan_pressure_every);
+  t.integer("inverted_element_every", c.inverted_element_every);
+  t.integer("at_decision", c.at_decision);
+}
+
 void write_codesign_table(std::ostream& out, const CodesignConfig& c) {
   io::TomlTableWriter t(out, "codesign");
   t.integer("total_timesteps", c.total_timesteps);
@@ -57,6 +64,9 @@ std::string resolved_run_config(const fem::WhiskerModelSpec& spec, const fem::Sc
   out << "# resolved by codesign: every key the run reads, with the value used\n\n";
   io::write_fem_tables(out, spec, scene, solver);
   write_task_table(out, loop.task);
+  // Only a run that injects faults has the table: other runs keep their config text (and the
+  // fingerprint of their checkpoints).
+  if (loop.task.faults.enabled()) write_faults_table(out, loop.task.faults);
   write_codesign_table(out, loop.codesign);
   io::write_ppo_table(out, loop.ppo);
   return out.str();

@@ -15,11 +15,13 @@ struct LoopConfig;  // outer_loop.hpp
 
 // [task] (observation as its name).
 void write_task_table(std::ostream& out, const TaskConfig& task);
+// [faults] (resolved_run_config writes it only when a fault is enabled).
+void write_faults_table(std::ostream& out, const FaultConfig& faults);
 // [codesign] (baseline as "none" / "single_design", plate_phase_deg in degrees).
 void write_codesign_table(std::ostream& out, const CodesignConfig& codesign);
 
 // The resolved config of a co-design run: a header comment, then [material], [scene],
-// [solver], [geometry], [mesh], [fibres] (io::write_fem_tables), [task], [codesign] and [ppo]
+// [solver], [geometry], [mesh], [fibres] (io::write_fem_tables), [task], [faults] (if enabled), [codesign] and [ppo]
 // (io::write_ppo_table). No [sim]: the run does not read it. Reading the text back (the readers
 // of io/fem_config.hpp, io/mesh_config.hpp, config_reader.hpp and read_ppo_config over
 // rl::paper_ppo_config()) gives the same values, so resolving that again gives the same text.

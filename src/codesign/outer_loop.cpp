@@ -86,7 +86,8 @@ std::vector<DesignSample> OuterLoop::sample_designs(std::vector<EpisodeSetup>& s
     if (c.baseline == Baseline::SingleDesign) d = single_design(c);
     const double u = design_rng_.uniform();
     const double phase = c.random_plate_phase ? 2.0 * std::numbers::pi * u : c.plate_phase_rad;
-    setups.push_back({d.design, d.pressures_kPa[0], d.pressures_kPa[1], phase});
+    setups.push_back({d.design, d.pressures_kPa[0], d.pressures_kPa[1], phase, 0.0,
+                      config_.task.faults.fault_for(k_, i, envs_->size())});
     samples.push_back(d);
   }
   return samples;

@@ -16,6 +16,7 @@
 #include "codesign/checkpoint.hpp"
 #include "codesign/config_writer.hpp"
 #include "codesign/evaluation.hpp"
+#include "codesign/failure_count.hpp"
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_log.hpp"
@@ -62,37 +63,40 @@ struct Logs {
     }
     return c;
   }
-  Logs(const fs::path& dir, const std::map<std::string, std::uint64_t>* resume)
-      : episodes(open(dir, "episodes.csv",
-                      {"t", "k", "j", "n", "l_mm", "w_mm", "p1_kPa", "p2_kPa", "phase_rad", "return", "decisions",
-                       "in_band", "first", "reason"},
-                      resume)),
-        ppo(open(dir, "ppo.csv",
-                 {"k", "t", "pg_loss", "value_loss", "entropy_loss", "loss", "approx_kl", "clip_fraction",
-                  "explained_variance", "lr", "ent_coef", "epochs", "early_stopped", "grad_norm", "collect_s",
-                  "update_s", "policy_s", "steps_per_s"},
-                 resume)),
-        distribution(open(dir, "distribution.csv",
-                          {"k", "t", "phase", "beta", "entropy", "top1_j", "top1_q", "top2_j", "top2_q", "top3_j",
-                           "top3_q", "best_j", "best_score", "best_mu1_kPa", "best_mu2_kPa", "best_sigma1_kPa",
-                           "best_sigma2_kPa"},
-                          resume)),
-        q(open(dir, "q_disc.csv", q_columns(), resume)),
-        sampled(open(dir, "sampled.csv",
-                     {"k", "t", "i", "j", "p1_kPa", "p2_kPa", "return", "mu1_kPa", "mu2_kPa", "sigma1_kPa",
-                      "sigma2_kPa"},
-                     resume)) {}
-
-  static std::unique_ptr<CsvLog> open(const fs::path& dir, const std::string& name,
-                                      const std::vector<std::string>& columns,
-                                      const std::map<std::string, std::uint64_t>* resume) {
-    std::optional<std::uint64_t> at;
-    if (resume) {
-      const auto it = resume->find(name);
-      if (it == resume->end()) throw InputError("checkpoint: has no position for " + name);
-      at = it->second;
+  Logs(const fs::path& dir, const std::map<std::string, std::uint64_t>* resume) {
+    const std::vector<std::pair<std::string, std::vector<std::string>>> logs{
+        {"episodes.csv",
+         {"t", "k", "j", "n", "l_mm", "w_mm", "p1_kPa", "p2_kPa", "phase_rad", "return", "decisions", "in_band",
+          "first", "reason"}},
+        {"ppo.csv",
+         {"k", "t", "pg_loss", "value_loss", "entropy_loss", "loss", "approx_kl", "clip_fraction",
+          "explained_variance", "lr", "ent_coef", "epochs", "early_stopped", "grad_norm", "collect_s", "update_s",
+          "policy_s", "steps_per_s"}},
+        {"distribution.csv",
+         {"k", "t", "phase", "beta", "entropy", "top1_j", "top1_q", "top2_j", "top2_q", "top3_j", "top3_q", "best_j",
+          "best_score", "best_mu1_kPa", "best_mu2_kPa", "best_sigma1_kPa", "best_sigma2_kPa"}},
+        {"q_disc.csv", q_columns()},
+        {"sampled.csv",
+         {"k", "t", "i", "j", "p1_kPa", "p2_kPa", "return", "mu1_kPa", "mu2_kPa", "sigma1_kPa", "sigma2_kPa"}}};
+    // A resume cuts the logs back to the checkpoint only once all of them fit it: a resume that
+    // fails leaves every file as it was.
+    for (const auto& [name, columns] : logs) (void)position(dir, name, columns, resume);
+    std::unique_ptr<CsvLog>* member[] = {&episodes, &ppo, &distribution, &q, &sampled};
+    for (std::size_t i = 0; i < logs.size(); ++i) {
+      const auto& [name, columns] = logs[i];
+      *member[i] = std::make_unique<CsvLog>((dir / name).string(), columns, position(dir, name, columns, resume));
     }
-    return std::make_unique<CsvLog>((dir / name).string(), columns, at);
+  }
+
+  // The checkpointed length of a log to resume (checked against the file), or none.
+  static std::optional<std::uint64_t> position(const fs::path& dir, const std::string& name,
+                                               const std::vector<std::string>& columns,
+                                               const std::map<std::string, std::uint64_t>* resume) {
+    if (!resume) return std::nullopt;
+    const auto it = resume->find(name);
+    if (it == resume->end()) throw InputError("checkpoint: has no position for " + name);
+    CsvLog::check_resumable((dir / name).string(), columns, it->second);
+    return it->second;
   }
 
   std::map<std::string, std::uint64_t> flush() {
@@ -315,6 +319,8 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     wall_before = ckpt->wall_s;
   }
   Logs logs(dir, ckpt ? &ckpt->logs : nullptr);
+  // Training episodes ended by a numerical failure so far (episodes.csv holds those before a resume).
+  std::int64_t numerical = count_numerical_failures((dir / "episodes.csv").string());
   const std::unique_ptr<io::Telemetry> telemetry = io::make_telemetry(options.telemetry_url);
 
   const CodesignConfig& c = lc.codesign;
@@ -338,6 +344,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     const double el = elapsed();
     const double rate = static_cast<double>(rep.t - t0) / std::max(el, 1e-9);
     log_iteration(logs, rep, loop.distribution(), rate);
+    for (const EpisodeRecord& e : rep.episodes) numerical += is_numerical_failure(e.reason) ? 1 : 0;
     publish_iteration(*telemetry, rep, loop.distribution(), rate);
     if (rep.t - last_ckpt >= c.checkpoint_every || loop.finished()) {
       checkpoint();
@@ -349,11 +356,12 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
       const int best = c.baseline == Baseline::SingleDesign ? c.single_design_index : d.leading_design();
       const double mean_first = std::accumulate(rep.returns.begin(), rep.returns.end(), 0.0) /
                                 static_cast<double>(std::max<std::size_t>(1, rep.returns.size()));
-      std::printf("%st %lld/%lld (%.1f%%) | %.0f steps/s | ETA %s | %s | mean return %.2f | best %s R^ %.2f%s",
+      const std::string failures = numerical > 0 ? " | numerical failures " + std::to_string(numerical) : "";
+      std::printf("%st %lld/%lld (%.1f%%) | %.0f steps/s | ETA %s | %s | mean return %.2f | best %s R^ %.2f%s%s",
                   tty ? "\r" : "", static_cast<long long>(rep.t), static_cast<long long>(T),
                   100.0 * static_cast<double>(rep.t) / static_cast<double>(T), rate,
                   duration(static_cast<double>(T - rep.t) / std::max(rate, 1e-9)).c_str(), to_string(d.phase(rep.t)),
-                  mean_first, design_label(best).c_str(), d.state().score[best],
+                  mean_first, design_label(best).c_str(), d.state().score[best], failures.c_str(),
                   tty ? "   " : "\n");
       std::fflush(stdout);
     }
@@ -416,6 +424,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
         << "seed = " << c.seed << "\n"
         << "observation = \"" << to_string(lc.task.observation) << "\"\n"
         << "baseline = \"" << (c.baseline == Baseline::SingleDesign ? "single_design" : "none") << "\"\n"
+        << "numerical_failures = " << numerical << "   # training episodes ended by a numerical failure (episodes.csv)\n"
         << "wall_s = " << num(wall_total) << "   # wall-clock: the only field that differs between reruns\n";
   });
   std::printf("codesign: d* = %s, p* = [%.4g, %.4g] kPa: test return %.2f +- %.2f over %d episodes (band %.0f%%)\n",
@@ -425,6 +434,9 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     std::printf("codesign: runner-up %s, p = [%.4g, %.4g] kPa: test return %.2f +- %.2f (band %.0f%%)\n",
                 design_label(runner.design).c_str(), runner.p1_kPa, runner.p2_kPa, er->mean_return, er->std_return,
                 100.0 * er->mean_band_fraction);
+  if (numerical > 0)
+    std::printf("codesign: %lld training episodes ended by a numerical failure (episodes.csv reason \"numerical: ...\")\n",
+                static_cast<long long>(numerical));
   std::printf("codesign: %lld timesteps in %s -> %s\n", static_cast<long long>(loop.timesteps()),
               duration(wall_total).c_str(), (dir / "result.toml").string().c_str());
   result.completed = true;

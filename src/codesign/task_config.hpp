@@ -1,6 +1,8 @@
 #pragma once
 // The whisker force-tracking MDP of the paper (§IV-A, §V-A; SPEC §3), as a value type with the
 // paper's defaults. Where the paper is silent the choice is ours and is marked "(ours)".
+#include <cstddef>
+#include <cstdint>
 #include <numbers>
 
 namespace codesign::coopt {
@@ -32,6 +34,41 @@ enum class StrainOffset { None, Inflated };
 
 inline const char* to_string(StrainOffset s) { return s == StrainOffset::Inflated ? "inflated" : "none"; }
 
+// Numerical failure injection ([faults]; off by default): a test of the claim that a numerical
+// failure of the simulator ends only the episode it happens in, with a logged reason
+// ("numerical: <status>: <detail>" in episodes.csv) and a count in the results. A chosen
+// training episode gets, just before its decision `at_decision`, either NaN chamber pressures
+// (the simulator then reports non_finite) or a jump of the base by 180 degrees within one step,
+// which turns the elements at the clamp inside out (inverted_element). Which episodes: the first
+// episode of environment i in iteration k, counted c = k·ψ + i + 1 (ψ = designs_per_update),
+// gets NaN pressure when c is a multiple of nan_pressure_every, else an inverted element when c
+// is a multiple of inverted_element_every (0: never). Episodes restarted after it run clean, and
+// the evaluation never injects.
+enum class Fault { None, NanPressure, InvertedElement };
+
+inline const char* to_string(Fault f) {
+  switch (f) {
+    case Fault::None: return "none";
+    case Fault::NanPressure: return "nan_pressure";
+    case Fault::InvertedElement: return "inverted_element";
+  }
+  return "?";
+}
+
+struct FaultConfig {
+  int nan_pressure_every = 0;      // in [0, 1e6]
+  int inverted_element_every = 0;  // in [0, 1e6]
+  int at_decision = 1;             // in [0, decisions per episode − 1]
+  bool enabled() const { return nan_pressure_every > 0 || inverted_element_every > 0; }
+  // The fault of the first episode of environment `env` in iteration k (envs per iteration).
+  Fault fault_for(std::int64_t k, std::size_t env, std::size_t envs) const {
+    const std::int64_t c = k * static_cast<std::int64_t>(envs) + static_cast<std::int64_t>(env) + 1;
+    if (nan_pressure_every > 0 && c % nan_pressure_every == 0) return Fault::NanPressure;
+    if (inverted_element_every > 0 && c % inverted_element_every == 0) return Fault::InvertedElement;
+    return Fault::None;
+  }
+};
+
 struct TaskConfig {
   int episode_steps = 250;        // simulation steps per episode (paper)
   int action_hold_steps = 5;      // an action is held for 5 steps -> 50 decisions (paper)
@@ -58,6 +95,8 @@ struct TaskConfig {
   // Chamber pressures p_i ∈ [0, pressure_max_kPa] (paper: 20 kPa): the observation's pressure
   // scale and the range of the design distribution's latent map.
   double pressure_max_kPa = 20.0;
+  // [faults]: numerical failure injection for tests (above); off by default.
+  FaultConfig faults;
 };
 
 }  // namespace codesign::coopt

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 
 #include <time.h>
 
@@ -35,6 +36,13 @@ double thread_cpu_seconds() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// A failure reason as one CSV cell of the logs: no comma, quote or line break.
+std::string reason_cell(std::string s) {
+  for (char& c : s)
+    if (c == ',' || c == '"' || c == '\n' || c == '\r') c = c == ',' ? ';' : ' ';
+  return s;
 }
 
 }  // namespace
@@ -72,6 +80,8 @@ WhiskerEnv::~WhiskerEnv() {
 void WhiskerEnv::set_episode(const EpisodeSetup& setup) {
   (void)fem::design_from_index(setup.design);  // throws std::out_of_range for a bad index
   setup_ = setup;
+  fault_ = setup.fault;
+  setup_.fault = Fault::None;
 }
 
 int WhiskerEnv::decisions_per_episode() const { return task_.episode_steps / task_.action_hold_steps; }
@@ -84,6 +94,7 @@ Eigen::VectorXd WhiskerEnv::reset(std::optional<std::uint64_t> /*seed*/) {
     settled_setup_.reset();
   }
   decision_ = 0;
+  episode_fault_ = std::exchange(fault_, Fault::None);
   in_band_ = 0;
   last_dtheta_ = 0.0;
   trace_.clear();
@@ -176,13 +187,17 @@ rl::StepResult WhiskerEnv::step(const Eigen::VectorXd& action) {
   if (!reset_failure_.empty()) {
     out.obs = observe();
     out.terminated = true;
-    out.reason = "numerical: settle: " + reset_failure_;
+    out.reason = reason_cell("numerical: settle: " + reset_failure_);
     return out;
   }
   const double a = std::isfinite(action[0]) ? std::clamp(action[0], -1.0, 1.0) : 0.0;
   const double dtheta = a * task_.theta_max_rad;
   const int hold = task_.action_hold_steps;
   sim_->set_base_angle_target(sim_->theta() + dtheta, hold);
+  if (episode_fault_ != Fault::None && decision_ == task_.faults.at_decision) {
+    if (episode_fault_ == Fault::NanPressure) sim_->set_pressures_kPa(std::nan(""), std::nan(""));
+    if (episode_fault_ == Fault::InvertedElement) sim_->set_base_angle(sim_->theta() + std::numbers::pi);
+  }
   for (int k = 0; k < hold; ++k) {
     const double t0 = thread_cpu_seconds();
     const fem::StepResult r = sim_->step();
@@ -191,7 +206,7 @@ rl::StepResult WhiskerEnv::step(const Eigen::VectorXd& action) {
       ++decision_;
       out.obs = observe();
       out.terminated = true;
-      out.reason = std::string("numerical: ") + fem::to_string(r.status) + ": " + r.reason;
+      out.reason = reason_cell(std::string("numerical: ") + fem::to_string(r.status) + ": " + r.reason);
       return out;
     }
     if (recording_) record(a);

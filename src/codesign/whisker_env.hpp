@@ -48,6 +48,9 @@ struct EpisodeSetup {
   double p2_kPa = 0.0;          // ignored (0) for one-chamber designs
   double plate_phase_rad = 0.0;
   double theta0_rad = 0.0;      // base angle the episode starts (and settles) at
+  // Injected numerical failure (TaskConfig::faults); only the next episode after set_episode()
+  // gets it, an episode restarted with reset() alone runs clean.
+  Fault fault = Fault::None;
 };
 
 // One simulation step of an episode, for evaluation traces and renders.
@@ -119,6 +122,8 @@ class WhiskerEnv final : public rl::Env {
   // ε₀ of strain_offset = Inflated, for the (design, p1, p2) in strain_zero_key_.
   std::optional<std::array<double, 3>> strain_zero_key_;
   double strain_zero_ = 0.0;
+  Fault fault_ = Fault::None;   // of the episode set by set_episode(), until its reset()
+  Fault episode_fault_ = Fault::None;  // of the running episode
   int decision_ = 0;
   int in_band_ = 0;
   double last_dtheta_ = 0.0;

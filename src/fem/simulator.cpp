@@ -191,6 +191,12 @@ struct Simulator::Impl {
     const double g = model->material.gravity_mm_s2;
     for (int i = 0; i < n; ++i) ff[3 * i + 2] -= model->lumped_mass[i] * g;
     add_pressure_forces(model->mesh, xx, pressures_Pa, ff);
+    // A NaN load (e.g. a NaN pressure) must fail here: the fast step's CG convergence test
+    // (‖r‖ > tol) is false for NaN, so it would return its finite warm start as if converged.
+    if (!ff.allFinite()) {
+      why = "non-finite forces (pressure/fibre/elastic/gravity load)";
+      return StepStatus::NonFinite;
+    }
     return StepStatus::Ok;
   }
 

@@ -32,26 +32,32 @@ CsvLog::CsvLog(std::string path, const std::vector<std::string>& columns, std::o
     if (std::fputs(header.c_str(), f_) < 0) throw std::runtime_error(path_ + ": write failed");
     return;
   }
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path_, ec);
-  if (ec) throw InputError(path_ + ": log file to resume is missing (" + ec.message() + ")");
-  if (size < *resume_at || *resume_at < header.size())
-    throw InputError(path_ + ": log file has " + std::to_string(size) + " bytes, the checkpoint expects at least " +
-                     std::to_string(*resume_at) + "; the run folder does not belong to this checkpoint");
+  check_resumable(path_, columns, *resume_at);
   f_ = std::fopen(path_.c_str(), "r+b");
   if (!f_) throw InputError(path_ + ": cannot open log file to resume");
-  std::string head(header.size(), '\0');
-  if (std::fread(head.data(), 1, head.size(), f_) != head.size() || head != header) {
-    std::fclose(f_);
-    f_ = nullptr;
-    throw InputError(path_ + ": log file header differs from this version's columns");
-  }
   if (::ftruncate(::fileno(f_), static_cast<off_t>(*resume_at)) != 0 ||
       std::fseek(f_, static_cast<long>(*resume_at), SEEK_SET) != 0) {
     std::fclose(f_);
     f_ = nullptr;
     throw InputError(path_ + ": cannot cut log file back to the checkpoint");
   }
+}
+
+void CsvLog::check_resumable(const std::string& path, const std::vector<std::string>& columns,
+                             std::uint64_t resume_at) {
+  const std::string header = join(columns);
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) throw InputError(path + ": log file to resume is missing (" + ec.message() + ")");
+  if (size < resume_at || resume_at < header.size())
+    throw InputError(path + ": log file has " + std::to_string(size) + " bytes, the checkpoint expects at least " +
+                     std::to_string(resume_at) + "; the run folder does not belong to this checkpoint");
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw InputError(path + ": cannot open log file to resume");
+  std::string head(header.size(), '\0');
+  const bool same = std::fread(head.data(), 1, head.size(), f) == head.size() && head == header;
+  std::fclose(f);
+  if (!same) throw InputError(path + ": log file header differs from this version's columns");
 }
 
 CsvLog::~CsvLog() {

@@ -22,6 +22,10 @@ class CsvLog {
   CsvLog(std::string path, const std::vector<std::string>& columns,
          std::optional<std::uint64_t> resume_at = std::nullopt);
   ~CsvLog();
+  // The checks of a resume (file exists with at least resume_at bytes and this header), without
+  // changing the file: throws the constructor's InputError.
+  static void check_resumable(const std::string& path, const std::vector<std::string>& columns,
+                              std::uint64_t resume_at);
   CsvLog(const CsvLog&) = delete;
   CsvLog& operator=(const CsvLog&) = delete;
 

@@ -3,6 +3,7 @@
 #include "io/atomic_file.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +16,8 @@
 #include <string_view>
 #include <unordered_map>
 #include <vector>
+
+#include <Eigen/Geometry>
 
 #include "fem/mesh_ops.hpp"
 
@@ -209,8 +212,7 @@ void read_nodes(Lexer& lx, RawMesh& raw) {
   const long long total = lx.integer("number of nodes", 0, kMaxCount);
   lx.integer("min node tag", 0, 1LL << 62);
   lx.integer("max node tag", 0, 1LL << 62);
-  raw.node_tags.reserve(total);
-  raw.nodes.reserve(total);
+  // (no reserve(total): the count is the file's claim, checked against the nodes actually read)
   for (long long b = 0; b < blocks; ++b) {
     const int dim = static_cast<int>(lx.integer("entity dimension 0..3", 0, 3));
     lx.integer("entity tag", 0, kMaxCount);
@@ -289,6 +291,37 @@ int tag_of(const std::string& name) {
   return -1;
 }
 
+// An inverted element among upright ones folds over a neighbour: two tetrahedra sharing a face
+// must lie on opposite sides of it, and a face belongs to at most two tetrahedra.
+void check_no_folds(const TetMesh& m, const RawMesh& raw, const std::string& file) {
+  std::map<std::array<int, 3>, std::pair<int, int>> faces;  // sorted face -> (tet, opposite node)
+  auto side = [&](const std::array<int, 3>& f, int p) {
+    const Eigen::Vector3d a = m.nodes[f[0]], b = m.nodes[f[1]], c = m.nodes[f[2]];
+    const Eigen::Vector3d u = b - a, w = c - a;
+    const double v = u.cross(w).dot(m.nodes[p] - a);
+    return v > 0 ? 1 : (v < 0 ? -1 : 0);
+  };
+  for (std::size_t t = 0; t < m.tets.size(); ++t) {
+    const auto& k = m.tets[t];
+    for (int o = 0; o < 4; ++o) {
+      std::array<int, 3> f;
+      for (int i = 0, n = 0; i < 4; ++i)
+        if (i != o) f[n++] = k[i];
+      std::sort(f.begin(), f.end());
+      const auto [it, inserted] = faces.try_emplace(f, static_cast<int>(t), k[o]);
+      if (inserted) continue;
+      const int other = it->second.first;
+      const std::string where = file + ":" + std::to_string(raw.tet_lines[t]) + ": ";
+      if (other < 0)
+        throw InputError(where + "expected a face shared by at most two tetrahedra, got a third one");
+      if (side(f, it->second.second) * side(f, k[o]) >= 0)
+        throw InputError(where + "expected tetrahedra that do not overlap, got one folded over the tetrahedron of line " +
+                         std::to_string(raw.tet_lines[other]) + " (an inverted element)");
+      it->second.first = -1;  // interior face: taken
+    }
+  }
+}
+
 TetMesh assemble(Lexer& lx, const RawMesh& raw) {
   const std::string& file = lx.label();
   if (!raw.have_format) throw InputError(file + ":1: expected $MeshFormat section, got none");
@@ -317,6 +350,7 @@ TetMesh assemble(Lexer& lx, const RawMesh& raw) {
       throw InputError(file + ":" + std::to_string(raw.tet_lines[t]) + ": expected a tetrahedron of non-zero volume, got a flat one");
     }
   }
+  check_no_folds(m, raw, file);
   // Physical names of each face's entity decide its tag.
   for (const auto& f : raw.faces) {
     const auto ent = raw.entities.find({2, f.entity});

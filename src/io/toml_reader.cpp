@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -62,6 +63,9 @@ TableReader::TableReader(std::shared_ptr<State> state, const toml::table* table,
       read_keys_(std::make_shared<std::vector<std::string>>()) {}
 
 TableReader TableReader::from_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(path + ": cannot read config file: it is a directory; give a TOML file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open config file");
   std::stringstream ss;

@@ -38,7 +38,7 @@ class Writer {
 
 class Reader {
  public:
-  Reader(const std::vector<unsigned char>& b, std::size_t end, const std::string& file)
+  Reader(std::span<const unsigned char> b, std::size_t end, const std::string& file)
       : bytes_(b), end_(end), file_(file) {}
   template <class T>
   T get(const char* what) {
@@ -57,7 +57,7 @@ class Reader {
   std::size_t end() const { return end_; }
 
  private:
-  const std::vector<unsigned char>& bytes_;
+  std::span<const unsigned char> bytes_;
   std::size_t pos_ = 0;
   std::size_t end_;
   const std::string& file_;
@@ -148,6 +148,10 @@ PolicyFileContents load_policy(const std::filesystem::path& path) {
   if (!in) throw InputError("policy file " + file + ": cannot open");
   const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
                                          std::istreambuf_iterator<char>());
+  return parse_policy(bytes, file);
+}
+
+PolicyFileContents parse_policy(std::span<const unsigned char> bytes, const std::string& file) {
   constexpr std::size_t kHeader = sizeof kMagic + sizeof(std::uint32_t);
   if (bytes.size() < kHeader + sizeof(std::uint64_t))
     throw InputError("policy file " + file + ": too short (" + std::to_string(bytes.size()) +
@@ -163,7 +167,7 @@ PolicyFileContents load_policy(const std::filesystem::path& path) {
   const std::size_t body_end = bytes.size() - sizeof(std::uint64_t);
   std::uint64_t stored;
   std::memcpy(&stored, bytes.data() + body_end, sizeof stored);
-  if (stored != fnv1a64(std::span(bytes.data(), body_end)))
+  if (stored != fnv1a64(bytes.first(body_end)))
     throw InputError("policy file " + file +
                          ": checksum mismatch (file is corrupt or truncated)");
 

@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <optional>
 #include <span>
+#include <string>
 
 #include <Eigen/Core>
 
@@ -46,6 +47,8 @@ struct PolicyFileContents {
 void save_policy(const std::filesystem::path& path, const ActorCritic& model,
                  const std::optional<ObsNormalization>& obs_norm = std::nullopt);
 PolicyFileContents load_policy(const std::filesystem::path& path);
+// The same from the bytes of a policy file; `label` names the source in messages.
+PolicyFileContents parse_policy(std::span<const unsigned char> bytes, const std::string& label);
 
 // FNV-1a 64-bit hash (the file checksum).
 std::uint64_t fnv1a64(std::span<const unsigned char> bytes);

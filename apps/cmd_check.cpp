@@ -1,0 +1,138 @@
+// `codesign check FILE [--config run.toml]`
+//
+// Reads a file a user brings from elsewhere — a gmsh .msh 4.1 mesh, a policy file, a checkpoint —
+// with the same readers the program uses, and prints one line saying what it holds. With
+// --config it also checks that the file fits that run config: a policy's network sizes and
+// observation size, a checkpoint's config fingerprint and network sizes. A mesh must carry the
+// surfaces a whisker needs (base, tip, chamber_1). Writes nothing; any defect is one message
+// naming the file and the field, exit status 2.
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "base/errors.hpp"
+#include "codesign/checkpoint.hpp"
+#include "codesign/config_writer.hpp"
+#include "codesign/outer_loop.hpp"
+#include "codesign/whisker_env.hpp"
+#include "commands.hpp"
+#include "fem/mesh_ops.hpp"
+#include "io/msh.hpp"
+#include "rl/actor_critic.hpp"
+#include "rl/policy_file.hpp"
+#include "sim_setup.hpp"
+
+namespace codesign::app {
+
+namespace {
+
+struct CheckOptions {
+  std::string file;
+  std::string config;
+};
+
+std::string sizes_text(const std::vector<int>& v) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + std::to_string(v[i]);
+  return s + "]";
+}
+
+std::vector<int> hidden_of(const std::vector<int>& sizes) {
+  return sizes.size() < 2 ? std::vector<int>{} : std::vector<int>(sizes.begin() + 1, sizes.end() - 1);
+}
+
+int check_mesh(const CheckOptions& o) {
+  const fem::TetMesh m = io::read_msh_file(o.file);
+  const char* need = "; a whisker mesh needs triangles in the physical surfaces \"base\" (clamped), \"tip\" and "
+                     "\"chamber_1\" (and \"chamber_2\" for two chambers)";
+  if (m.base_faces.empty()) throw InputError(o.file + ": physical group \"base\": no triangles" + need);
+  if (m.tip_faces.empty()) throw InputError(o.file + ": physical group \"tip\": no triangles" + need);
+  if (m.chamber_faces.empty() || m.chamber_faces[0].empty())
+    throw InputError(o.file + ": physical group \"chamber_1\": no triangles" + need);
+  if (m.chamber_faces.size() > 2)
+    throw InputError(o.file + ": physical group \"chamber_" + std::to_string(m.chamber_faces.size()) +
+                     "\": at most 2 chambers (chamber_1, chamber_2) are allowed");
+  double volume = 0.0;
+  for (std::size_t t = 0; t < m.tets.size(); ++t) volume += fem::tet_volume(m, static_cast<int>(t));
+  std::printf("%s: mesh: %zu nodes, %zu tetrahedra, volume %.6g mm^3; faces: base %zu, tip %zu", o.file.c_str(),
+              m.nodes.size(), m.tets.size(), volume, m.base_faces.size(), m.tip_faces.size());
+  for (std::size_t c = 0; c < m.chamber_faces.size(); ++c)
+    std::printf(", chamber_%zu %zu", c + 1, m.chamber_faces[c].size());
+  std::printf("\n");
+  return 0;
+}
+
+int check_policy(const CheckOptions& o) {
+  const rl::PolicyFileContents p = rl::load_policy(o.file);
+  const std::vector<int> actor = hidden_of(p.model.actor().sizes()), critic = hidden_of(p.model.critic().sizes());
+  if (!o.config.empty()) {
+    const SimSetup s = read_sim_setup(o.config);
+    const std::string pre = "policy file " + o.file + ": ";
+    const int obs = coopt::observation_dim(s.task.observation);
+    if (p.model.obs_dim() != obs)
+      throw InputError(pre + "obs_dim " + std::to_string(p.model.obs_dim()) + " differs from " + o.config +
+                       ": task.observation = \"" + coopt::to_string(s.task.observation) + "\" needs " +
+                       std::to_string(obs));
+    if (p.model.act_dim() != 1)
+      throw InputError(pre + "act_dim " + std::to_string(p.model.act_dim()) + "; the whisker task needs 1");
+    if (actor != s.ppo.actor_hidden)
+      throw InputError(pre + "actor hidden sizes " + sizes_text(actor) + " differ from " + o.config +
+                       ": ppo.actor_hidden = " + sizes_text(s.ppo.actor_hidden));
+    if (critic != s.ppo.critic_hidden)
+      throw InputError(pre + "critic hidden sizes " + sizes_text(critic) + " differ from " + o.config +
+                       ": ppo.critic_hidden = " + sizes_text(s.ppo.critic_hidden));
+  }
+  std::printf("%s: policy: obs_dim %d, act_dim %d, actor %s, critic %s, observation normalisation %s%s\n",
+              o.file.c_str(), p.model.obs_dim(), p.model.act_dim(), sizes_text(actor).c_str(),
+              sizes_text(critic).c_str(), p.obs_norm ? "yes" : "no", o.config.empty() ? "" : "; fits the config");
+  return 0;
+}
+
+int check_checkpoint(const CheckOptions& o) {
+  if (o.config.empty())
+    throw InputError("checkpoint " + o.file + ": --config is required to check a checkpoint (the run's config.toml)");
+  const SimSetup s = read_sim_setup(o.config);
+  const coopt::LoopConfig lc{s.task, s.codesign, s.ppo};
+  const std::uint64_t fp = coopt::fingerprint(coopt::resolved_run_config(s.spec, s.scene, s.solver, lc));
+  const coopt::Checkpoint c = coopt::load_checkpoint(o.file, fp);
+  const rl::ActorCritic model(coopt::observation_dim(s.task.observation), 1, s.ppo.actor_hidden, s.ppo.critic_hidden);
+  if (c.loop.actor.size() != model.actor().num_params() || c.loop.critic.size() != model.critic().num_params() ||
+      c.loop.log_std.size() != 1)
+    throw InputError("checkpoint " + o.file + ": network sizes (" + std::to_string(c.loop.actor.size()) + " actor, " +
+                     std::to_string(c.loop.critic.size()) + " critic parameters) differ from " + o.config + "'s (" +
+                     std::to_string(model.actor().num_params()) + " actor, " +
+                     std::to_string(model.critic().num_params()) + " critic parameters)");
+  std::printf("%s: checkpoint at t = %lld, iteration %d, %zu logs; fits the config\n", o.file.c_str(),
+              static_cast<long long>(c.loop.t), c.loop.k, c.logs.size());
+  return 0;
+}
+
+int run_check(const CheckOptions& o) {
+  std::ifstream in(o.file, std::ios::binary);
+  if (!in) throw InputError(o.file + ": cannot open");
+  char head[11] = {};
+  in.read(head, sizeof head);
+  if (std::memcmp(head, "CDSPOLCY", 8) == 0) return check_policy(o);
+  if (std::memcmp(head, "CDSCKPT1", 8) == 0) return check_checkpoint(o);
+  if (std::memcmp(head, "$MeshFormat", 11) == 0 || o.file.ends_with(".msh")) return check_mesh(o);
+  throw InputError(o.file + ": not a file codesign reads; allowed: a gmsh .msh 4.1 mesh, a policy file "
+                   "(policy.bin) or a checkpoint (checkpoint.bin)");
+}
+
+}  // namespace
+
+void add_check_command(CLI::App& root, Runner& run) {
+  auto opt = std::make_shared<CheckOptions>();
+  CLI::App* cmd = root.add_subcommand(
+      "check", "Validate a mesh (.msh 4.1), policy file or checkpoint and print what it holds; writes nothing");
+  cmd->add_option("file", opt->file, "the file to check")->required();
+  cmd->add_option("--config", opt->config,
+                  "run config the file must fit (policy: network and observation sizes; checkpoint: required)");
+  cmd->callback([opt, &run] { run = [opt] { return run_check(*opt); }; });
+}
+
+}  // namespace codesign::app
