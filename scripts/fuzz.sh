@@ -9,7 +9,7 @@
 # New inputs that add coverage go to build-fuzz/corpus/<reader>/ (not the committed corpus);
 # a crash is written to build-fuzz/findings/<reader>/ and stops the script with a non-zero
 # status. Logs: build-fuzz/logs/<reader>.log (the last line holds libFuzzer's cov:/ft:/exec
-# figures). Set NICE=15 to run at low priority on a shared machine.
+# figures). NICE=15 runs the fuzzers (not the build) at low priority on a shared machine.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
@@ -22,7 +22,7 @@ CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=None -
   -DCODESIGN_FUZZ=ON -DCODESIGN_TESTS=OFF >/dev/null
 targets=()
 for r in "${readers[@]}"; do targets+=("fuzz_$r"); done
-nice -n "$nice_level" cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]}"
+cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]}"
 
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
