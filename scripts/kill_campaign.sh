@@ -143,7 +143,7 @@ cut -d, -f1-14 "$run/ppo.csv" >"$work/killed_ppo.csv"
 same "$work/whole_ppo.csv" "$work/killed_ppo.csv"
 leftover=$(ls "$run" | grep -c '\.tmp$' || true)
 echo "kill_campaign: .tmp files left in the run folder: $leftover"
-echo "kill_campaign: $killed of $kills rounds were kills (the others found the run already finished)"
+echo "kill_campaign: $killed of $kills rounds killed a running process"
 ((killed == kills)) || status=1
 ((status == 0)) && echo "kill_campaign: PASS ($killed kills)" || echo "kill_campaign: FAIL"
 exit $status
