@@ -142,6 +142,9 @@ class Lexer {
 };
 
 constexpr long long kMaxCount = 1LL << 31;
+// Tags stored as int: at most INT_MAX, and physical tags (which may be negative in $Entities)
+// at least -INT_MAX, so that std::abs of one is defined.
+constexpr long long kMaxTag = 2147483647LL;
 
 struct Entity {
   std::vector<int> physicals;
@@ -177,7 +180,7 @@ void read_physical_names(Lexer& lx, RawMesh& raw) {
   const long long n = lx.integer("number of physical names", 0, kMaxCount);
   for (long long i = 0; i < n; ++i) {
     const int dim = static_cast<int>(lx.integer("physical dimension 0..3", 0, 3));
-    const int tag = static_cast<int>(lx.integer("physical tag", 1, kMaxCount));
+    const int tag = static_cast<int>(lx.integer("physical tag", 1, kMaxTag));
     std::string name = lx.rest_of_line();
     while (!name.empty() && (name.back() == ' ' || name.back() == '\r' || name.back() == '\t')) name.pop_back();
     if (name.size() < 2 || name.front() != '"' || name.back() != '"') lx.expected("a quoted physical name", name);
@@ -191,12 +194,12 @@ void read_entities(Lexer& lx, RawMesh& raw) {
   for (int d = 0; d < 4; ++d) count[d] = lx.integer("entity count in $Entities", 0, kMaxCount);
   for (int d = 0; d < 4; ++d) {
     for (long long i = 0; i < count[d]; ++i) {
-      const int tag = static_cast<int>(lx.integer("entity tag", 1, kMaxCount));
+      const int tag = static_cast<int>(lx.integer("entity tag", 1, kMaxTag));
       const int coords = d == 0 ? 3 : 6;
       for (int k = 0; k < coords; ++k) lx.real("entity coordinate");
       Entity e;
       const long long np = lx.integer("number of physical tags", 0, kMaxCount);
-      for (long long k = 0; k < np; ++k) e.physicals.push_back(static_cast<int>(lx.integer("physical tag", -kMaxCount, kMaxCount)));
+      for (long long k = 0; k < np; ++k) e.physicals.push_back(static_cast<int>(lx.integer("physical tag", -kMaxTag, kMaxTag)));
       if (d > 0) {
         const long long nb = lx.integer("number of bounding entities", 0, kMaxCount);
         for (long long k = 0; k < nb; ++k) lx.integer("bounding entity tag", -kMaxCount, kMaxCount);
@@ -241,7 +244,7 @@ void read_elements(Lexer& lx, RawMesh& raw) {
   lx.integer("max element tag", 0, 1LL << 62);
   for (long long b = 0; b < blocks; ++b) {
     const int dim = static_cast<int>(lx.integer("entity dimension 0..3", 0, 3));
-    const int entity = static_cast<int>(lx.integer("entity tag", 0, kMaxCount));
+    const int entity = static_cast<int>(lx.integer("entity tag", 0, kMaxTag));
     const long long type = lx.integer("element type", 1, 1000);
     const long long n = lx.integer("number of elements in block", 0, kMaxCount);
     if (dim == 3 && type != 4) {

@@ -86,6 +86,17 @@ std::vector<int> get_hidden(Reader& r, const std::string& file, const char* whic
   return hidden;
 }
 
+// Parameters (weights and biases) of an MLP in -> hidden... -> out; every size <= kMaxDim and at
+// most kMaxLayers hidden layers, so the sum stays below 2^48.
+std::uint64_t mlp_params(std::uint64_t in, const std::vector<int>& hidden, std::uint64_t out) {
+  std::uint64_t n = 0, prev = in;
+  for (const int h : hidden) {
+    n += prev * static_cast<std::uint64_t>(h) + static_cast<std::uint64_t>(h);
+    prev = static_cast<std::uint64_t>(h);
+  }
+  return n + prev * out + out;
+}
+
 }  // namespace
 
 std::uint64_t fnv1a64(std::span<const unsigned char> bytes) {
@@ -183,6 +194,16 @@ PolicyFileContents parse_policy(std::span<const unsigned char> bytes, const std:
                          std::to_string(kMaxDim) + "]");
   const auto actor_hidden = get_hidden(r, file, "actor");
   const auto critic_hidden = get_hidden(r, file, "critic");
+  // The weights the sizes declare must be in the file before any is allocated: a few bytes
+  // claiming a huge network must not make the reader fill gigabytes (fuzz finding).
+  const std::uint64_t weights = mlp_params(obs_dim, actor_hidden, act_dim) +
+                                mlp_params(obs_dim, critic_hidden, 1) + act_dim;
+  if (weights > (r.end() - r.pos()) / sizeof(float))
+    throw InputError("policy file " + file + ": the declared sizes (obs_dim " + std::to_string(obs_dim) +
+                     ", act_dim " + std::to_string(act_dim) + ", " + std::to_string(actor_hidden.size()) +
+                     " actor and " + std::to_string(critic_hidden.size()) + " critic hidden layers) need " +
+                     std::to_string(weights) + " weights; the file holds at most " +
+                     std::to_string((r.end() - r.pos()) / sizeof(float)));
   PolicyFileContents c{ActorCritic(static_cast<int>(obs_dim), static_cast<int>(act_dim),
                                    actor_hidden, critic_hidden),
                        std::nullopt};

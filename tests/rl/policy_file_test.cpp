@@ -119,3 +119,40 @@ TEST_F(PolicyFile, MissingFileIsAnInputError) { expect_load_error("cannot open")
 
 }  // namespace
 }  // namespace codesign::rl
+
+namespace codesign::rl {
+namespace {
+
+// Fuzz finding (docs/reliability.md): 60 bytes declaring a network of billions of weights made
+// the reader allocate and zero it before finding the weights missing. The sizes are now checked
+// against the bytes present first.
+TEST(PolicyFileSizes, HugeDeclaredNetworkIsRejectedBeforeAllocating) {
+  std::vector<unsigned char> b{'C', 'D', 'S', 'P', 'O', 'L', 'C', 'Y'};
+  auto u32 = [&](std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) b.push_back(static_cast<unsigned char>(v >> (8 * i)));
+  };
+  u32(1);                                   // version
+  u32(1u << 20);                            // obs_dim
+  u32(1);                                   // act_dim
+  u32(64);                                  // actor: 64 hidden layers of 2^20
+  for (int i = 0; i < 64; ++i) u32(1u << 20);
+  u32(0);                                   // critic: none
+  for (int i = 0; i < 8; ++i) b.push_back(0);
+  const std::uint64_t sum = fnv1a64(std::span<const unsigned char>(b.data(), b.size() - 8));
+  for (int i = 0; i < 8; ++i) b[b.size() - 8 + i] = static_cast<unsigned char>(sum >> (8 * i));
+  // 2^20 inputs -> 64 layers of 2^20: 64 (2^40 + 2^20) + (2^20 + 1) actor, 2^20 + 1 critic, 1 log_std
+  const std::uint64_t weights = 64 * ((1ull << 40) + (1ull << 20)) + ((1ull << 20) + 1) + ((1ull << 20) + 1) + 1;
+  try {
+    (void)parse_policy(b, "huge.bin");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("policy file huge.bin: the declared sizes (obs_dim 1048576, act_dim 1, 64 actor and 0 critic "
+                     "hidden layers) need " + std::to_string(weights) + " weights; the file holds at most 0"),
+              std::string::npos)
+        << m;
+  }
+}
+
+}  // namespace
+}  // namespace codesign::rl
