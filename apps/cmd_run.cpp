@@ -64,6 +64,7 @@ int run_main_job(const RunCliOptions& o) {
   ro.progress = !o.quiet;
   ro.stop_after = o.stop_after;
   ro.telemetry_url = o.telemetry ? *o.telemetry : setup.telemetry_url;
+  ro.telemetry_train_every = setup.telemetry_train_every;
   const coopt::RunResult r = coopt::run_codesign(s, ro);
   // The paper's figures from the finished run (RUN/figures/); a problem there is a warning only.
   if (r.completed && !o.no_figures) draw_run_figures(out);

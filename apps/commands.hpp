@@ -28,5 +28,6 @@ void add_check_command(CLI::App& root, Runner& run);      // cmd_check.cpp
 void add_bench_fem_command(CLI::App& bench, Runner& run);  // bench_fem.cpp
 void add_bench_ppo_command(CLI::App& bench, Runner& run);  // bench_ppo.cpp
 void add_bench_codesign_command(CLI::App& bench, Runner& run);  // bench_codesign.cpp
+void add_bench_telemetry_command(CLI::App& bench, Runner& run);  // bench_telemetry.cpp
 
 }  // namespace codesign::app

@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
   app::add_bench_fem_command(*bench, run);
   app::add_bench_codesign_command(*bench, run);
   app::add_bench_ppo_command(*bench, run);
+  app::add_bench_telemetry_command(*bench, run);
 
   std::vector<std::string> args = with_default_command(argc, argv);
   if (!args.empty() && !args.front().empty() && args.front().front() != '-') {

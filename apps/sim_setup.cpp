@@ -29,6 +29,7 @@ SimSetup read_sim_setup(io::TableReader& root) {
   {
     io::TableReader tel = root.table("telemetry");
     s.telemetry_url = tel.string("url", "");
+    s.telemetry_train_every = static_cast<int>(tel.integer("train_decision_every", 2, 0, 1000000));
     tel.finish();
   }
   root.finish();

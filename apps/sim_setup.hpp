@@ -23,6 +23,7 @@ struct SimSetup {
   coopt::CodesignConfig codesign;  // [codesign]
   rl::PpoConfig ppo;               // [ppo] over the paper's settings (rl::paper_ppo_config)
   std::string telemetry_url;       // [telemetry] url: LCM URL, "" = off
+  int telemetry_train_every = 2;   // [telemetry] train_decision_every: every N-th decision of training env 0 (0 = none)
 };
 
 // Reads [geometry], [mesh], [fibres] (layout + stiffness), [material], [scene], [solver], [sim]

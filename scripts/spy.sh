@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Starts lcm-spy with codesign's message types (build/release/codesign_lcm_types.jar), so the
-# channels CODESIGN_SIM_STEP, CODESIGN_EPISODE, CODESIGN_PPO and CODESIGN_DISTRIBUTION show every
-# field with a live plot. See docs/telemetry.md.
+# channels CODESIGN_SIM_STEP, CODESIGN_TRAIN_STEP, CODESIGN_EPISODE, CODESIGN_PPO and
+# CODESIGN_DISTRIBUTION show every field with a live plot. See docs/telemetry.md.
 #
 #   bash scripts/spy.sh [LCM_URL]          default tcpq://127.0.0.1:7700
 #

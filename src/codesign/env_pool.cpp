@@ -1,5 +1,7 @@
 #include "codesign/env_pool.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace codesign::coopt {
@@ -17,6 +19,14 @@ ThreadEnvPool::ThreadEnvPool(std::shared_ptr<SimulatorPool> sims, const TaskConf
   result_.terminal_obs.assign(n_envs, std::nullopt);
   result_.reasons.assign(n_envs, {});
   last_in_band_.assign(n_envs, 0);
+  observers_.resize(n_envs);
+}
+
+void ThreadEnvPool::set_step_observer(std::size_t i, StepObserver observer, int every) {
+  Observer& o = observers_.at(i);
+  o.fn = every > 0 ? std::move(observer) : StepObserver();
+  o.every = o.fn ? every : 0;
+  o.decisions = 0;
 }
 
 Eigen::MatrixXd ThreadEnvPool::start(const std::vector<EpisodeSetup>& setups) {
@@ -36,6 +46,13 @@ const rl::VecStepResult& ThreadEnvPool::step(const Eigen::MatrixXd& actions, boo
     const auto c = static_cast<Eigen::Index>(i);
     WhiskerEnv& env = *envs_[i];
     rl::StepResult r = env.step(actions.col(c));
+    Observer& o = observers_[i];
+    if (o.every > 0 && ++o.decisions % o.every == 0) {
+      const fem::Sensors s = env.simulator().sensors();
+      const double a = std::isfinite(actions(0, c)) ? std::clamp(actions(0, c), -1.0, 1.0) : 0.0;
+      o.fn(env.episode(), TraceRow{env.decisions_taken() - 1, s.time_s, s.theta_rad, s.contact_force_mN,
+                                   s.axial_strain, s.tip_position_mm, s.plate_z_mm, a});
+    }
     result_.rewards(c) = r.reward;
     result_.terminated[i] = r.terminated ? 1 : 0;
     result_.truncated[i] = r.truncated ? 1 : 0;

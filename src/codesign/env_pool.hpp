@@ -10,6 +10,8 @@
 // auto-reset), its last observation kept in terminal_obs. Results never depend on the number
 // of threads: every environment owns its state and draws no random numbers.
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -38,6 +40,12 @@ class EnvPool {
   // Seconds (summed over the environments, i.e. CPU time) spent settling and stepping so far.
   virtual double settle_seconds() const = 0;
   virtual double step_seconds() const = 0;
+  // Called with environment i's setup and the simulation state at the end of every `every`-th
+  // decision it takes (counted over all its episodes), before an auto-reset, on the thread that
+  // steps it. For decimated live telemetry of a training environment; it only reads, so results
+  // do not change. An empty function or every <= 0: off.
+  using StepObserver = std::function<void(const EpisodeSetup&, const TraceRow&)>;
+  virtual void set_step_observer(std::size_t i, StepObserver observer, int every) = 0;
 };
 
 class ThreadEnvPool final : public EnvPool {
@@ -52,6 +60,7 @@ class ThreadEnvPool final : public EnvPool {
   int last_in_band(std::size_t i) const override { return last_in_band_[i]; }
   double settle_seconds() const override;
   double step_seconds() const override;
+  void set_step_observer(std::size_t i, StepObserver observer, int every) override;
   std::size_t threads() const { return pool_.size(); }
 
  private:
@@ -59,6 +68,12 @@ class ThreadEnvPool final : public EnvPool {
   rl::ThreadPool pool_;
   rl::VecStepResult result_;
   std::vector<int> last_in_band_;
+  struct Observer {
+    StepObserver fn;
+    int every = 0;
+    std::int64_t decisions = 0;
+  };
+  std::vector<Observer> observers_;  // one per environment
 };
 
 }  // namespace codesign::coopt

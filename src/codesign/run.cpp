@@ -1,6 +1,7 @@
 #include "codesign/run.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -144,6 +145,28 @@ void log_iteration(Logs& logs, const IterationReport& rep, const DesignDistribut
   }
 }
 
+// Wall time and messages spent on telemetry (filling messages, encoding, sending), summed over
+// threads; RunResult reports them so `codesign bench telemetry` can state the cost.
+struct PublishMeter {
+  std::atomic<std::int64_t> ns{0}, messages{0};
+  class Scope {
+   public:
+    Scope(PublishMeter& m, std::int64_t messages) : m_(m), start_(std::chrono::steady_clock::now()) {
+      m_.messages.fetch_add(messages, std::memory_order_relaxed);
+    }
+    ~Scope() {
+      const auto d = std::chrono::steady_clock::now() - start_;
+      m_.ns.fetch_add(std::chrono::duration_cast<std::chrono::nanoseconds>(d).count(), std::memory_order_relaxed);
+    }
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
+
+   private:
+    PublishMeter& m_;
+    std::chrono::steady_clock::time_point start_;
+  };
+};
+
 // The iteration's rows as LCM messages (the same numbers as the CSV logs).
 void publish_iteration(io::Telemetry& tel, const IterationReport& rep, const DesignDistribution& dist,
                        double steps_per_s) {
@@ -209,24 +232,26 @@ void publish_iteration(io::Telemetry& tel, const IterationReport& rep, const Des
 }
 
 // The simulation steps of an evaluation trace.
+codesign_lcm::sim_step_t sim_step_message(const EpisodeSetup& setup, const TraceRow& r, std::int64_t t) {
+  codesign_lcm::sim_step_t m{};
+  m.timestep = t;
+  m.t_s = r.t_s;
+  m.theta_rad = r.theta_rad;
+  m.force_mN = r.force_mN;
+  m.strain = r.strain;
+  for (int i = 0; i < 3; ++i) m.tip_mm[i] = r.tip_mm[i];
+  m.plate_z_mm = r.plate_z_mm;
+  m.design = setup.design;
+  m.pressures_kPa[0] = setup.p1_kPa;
+  m.pressures_kPa[1] = setup.p2_kPa;
+  m.decision = r.decision;
+  m.action = r.action;
+  return m;
+}
+
 void publish_trace(io::Telemetry& tel, const DesignEvaluation& e, std::int64_t t) {
   if (!tel.enabled()) return;
-  for (const TraceRow& r : e.trace) {
-    codesign_lcm::sim_step_t m{};
-    m.timestep = t;
-    m.t_s = r.t_s;
-    m.theta_rad = r.theta_rad;
-    m.force_mN = r.force_mN;
-    m.strain = r.strain;
-    for (int i = 0; i < 3; ++i) m.tip_mm[i] = r.tip_mm[i];
-    m.plate_z_mm = r.plate_z_mm;
-    m.design = e.setup.design;
-    m.pressures_kPa[0] = e.setup.p1_kPa;
-    m.pressures_kPa[1] = e.setup.p2_kPa;
-    m.decision = r.decision;
-    m.action = r.action;
-    tel.publish(m);
-  }
+  for (const TraceRow& r : e.trace) tel.publish(sim_step_message(e.setup, r, t));
 }
 
 void write_eval(const fs::path& dir, const std::string& which, const DesignEvaluation& e) {
@@ -322,6 +347,24 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   // Training episodes ended by a numerical failure so far (episodes.csv holds those before a resume).
   std::int64_t numerical = count_numerical_failures((dir / "episodes.csv").string());
   const std::unique_ptr<io::Telemetry> telemetry = io::make_telemetry(options.telemetry_url);
+  // The state after every telemetry_train_every-th decision of training environment 0, on its own
+  // channel, stamped with the run's timestep at the start of the iteration it belongs to.
+  std::atomic<std::int64_t> iteration_start_t{loop.timesteps()};
+  PublishMeter meter;
+  if (telemetry->enabled() && options.telemetry_train_every > 0) {
+    io::Telemetry& tel = *telemetry;
+    loop.envs().set_step_observer(
+        0,
+        [&tel, &iteration_start_t, &meter](const EpisodeSetup& s, const TraceRow& r) {
+          const PublishMeter::Scope timed(meter, 1);
+          tel.publish_training(sim_step_message(s, r, iteration_start_t.load(std::memory_order_relaxed)));
+        },
+        options.telemetry_train_every);
+  }
+  auto report_telemetry = [&](RunResult& r) {
+    r.telemetry_messages = meter.messages.load();
+    r.telemetry_s = 1e-9 * static_cast<double>(meter.ns.load());
+  };
 
   const CodesignConfig& c = lc.codesign;
   const std::int64_t T = c.total_timesteps;
@@ -340,12 +383,16 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   std::int64_t last_ckpt = loop.timesteps();
   RunResult result;
   while (!loop.finished()) {
+    iteration_start_t.store(loop.timesteps(), std::memory_order_relaxed);
     const IterationReport rep = loop.iterate();
     const double el = elapsed();
     const double rate = static_cast<double>(rep.t - t0) / std::max(el, 1e-9);
     log_iteration(logs, rep, loop.distribution(), rate);
     for (const EpisodeRecord& e : rep.episodes) numerical += is_numerical_failure(e.reason) ? 1 : 0;
-    publish_iteration(*telemetry, rep, loop.distribution(), rate);
+    if (telemetry->enabled()) {
+      const PublishMeter::Scope timed(meter, static_cast<std::int64_t>(rep.episodes.size()) + 2);
+      publish_iteration(*telemetry, rep, loop.distribution(), rate);
+    }
     if (rep.t - last_ckpt >= c.checkpoint_every || loop.finished()) {
       checkpoint();
       last_ckpt = rep.t;
@@ -369,6 +416,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
       checkpoint();
       result.timesteps = rep.t;
       result.wall_s = elapsed();
+      report_telemetry(result);
       return result;
     }
   }
@@ -403,12 +451,18 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   eo.threads = options.threads;
   const DesignEvaluation eb = evaluate_design(policy, sims, lc.task, best, eo);
   write_eval(dir / "eval", "best", eb);
-  publish_trace(*telemetry, eb, loop.timesteps());
+  if (telemetry->enabled()) {
+    const PublishMeter::Scope timed(meter, static_cast<std::int64_t>(eb.trace.size()));
+    publish_trace(*telemetry, eb, loop.timesteps());
+  }
   std::optional<DesignEvaluation> er;
   if (has_runner) {
     er = evaluate_design(policy, sims, lc.task, runner, eo);
     write_eval(dir / "eval", "runner_up", *er);
-    publish_trace(*telemetry, *er, loop.timesteps());
+    if (telemetry->enabled()) {
+      const PublishMeter::Scope timed(meter, static_cast<std::int64_t>(er->trace.size()));
+      publish_trace(*telemetry, *er, loop.timesteps());
+    }
   }
   rl::save_policy(dir / "policy.bin", model);
   result.wall_s = elapsed();
@@ -441,6 +495,11 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
               duration(wall_total).c_str(), (dir / "result.toml").string().c_str());
   result.completed = true;
   result.timesteps = loop.timesteps();
+  report_telemetry(result);
+  if (telemetry->enabled())
+    std::printf("codesign: telemetry: %lld messages, %.3f s spent publishing (%.2f %% of this session's wall time)\n",
+                static_cast<long long>(result.telemetry_messages), result.telemetry_s,
+                100.0 * result.telemetry_s / std::max(result.wall_s, 1e-9));
   return result;
 }
 

@@ -44,8 +44,13 @@ struct RunOptions {
   std::size_t threads = 0;      // rollout and evaluation threads (0: all cores)
   bool progress = true;         // progress line on stdout
   // LCM telemetry URL ("" = off): episodes, PPO updates and distribution updates as they
-  // happen, and the simulation steps of the final evaluation's first episodes (docs/telemetry.md).
+  // happen, decimated simulation steps of one training environment, and the simulation steps of
+  // the final evaluation's first episodes (docs/telemetry.md).
   std::string telemetry_url;
+  // With telemetry on: the simulation state at the end of every N-th decision of training
+  // environment 0 is published on CODESIGN_TRAIN_STEP (0: none). Default 2: with 5 simulation
+  // steps per decision, every 10th simulation step of one of the ψ environments.
+  int telemetry_train_every = 2;
   // Stop (as if killed, after the iteration that reaches it) once t ≥ stop_after; for tests.
   std::int64_t stop_after = -1;
 };
@@ -54,6 +59,10 @@ struct RunResult {
   bool completed = false;       // false: stopped by stop_after
   double wall_s = 0.0;
   std::int64_t timesteps = 0;
+  // Telemetry cost of this session (0 when off): messages published, and the wall time spent
+  // filling, encoding and sending them, summed over threads.
+  std::int64_t telemetry_messages = 0;
+  double telemetry_s = 0.0;
 };
 
 RunResult run_codesign(const RunSettings& settings, const RunOptions& options);

@@ -47,11 +47,17 @@ void LcmTelemetry::publish(const codesign_lcm::sim_step_t& m) { send(kSimStepCha
 void LcmTelemetry::publish(const codesign_lcm::episode_t& m) { send(kEpisodeChannel, m); }
 void LcmTelemetry::publish(const codesign_lcm::ppo_update_t& m) { send(kPpoChannel, m); }
 void LcmTelemetry::publish(const codesign_lcm::distribution_t& m) { send(kDistributionChannel, m); }
+void LcmTelemetry::publish_training(const codesign_lcm::sim_step_t& m) { send(kTrainStepChannel, m); }
 
 void RecordingTelemetry::publish(const codesign_lcm::sim_step_t& m) {
   std::lock_guard<std::mutex> lock(mutex_);
   sim_steps_.push_back(m);
   channels_.emplace_back(kSimStepChannel);
+}
+void RecordingTelemetry::publish_training(const codesign_lcm::sim_step_t& m) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  training_steps_.push_back(m);
+  channels_.emplace_back(kTrainStepChannel);
 }
 void RecordingTelemetry::publish(const codesign_lcm::episode_t& m) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -72,6 +78,10 @@ void RecordingTelemetry::publish(const codesign_lcm::distribution_t& m) {
 std::vector<codesign_lcm::sim_step_t> RecordingTelemetry::sim_steps() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return sim_steps_;
+}
+std::vector<codesign_lcm::sim_step_t> RecordingTelemetry::training_steps() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return training_steps_;
 }
 std::vector<codesign_lcm::episode_t> RecordingTelemetry::episodes() const {
   std::lock_guard<std::mutex> lock(mutex_);

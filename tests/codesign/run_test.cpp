@@ -9,8 +9,12 @@
 #include <sstream>
 #include <string>
 
+#include <unistd.h>
+
 #include "base/errors.hpp"
 #include "codesign/run.hpp"
+#include "io/csv_table.hpp"
+#include "io/telemetry.hpp"
 #include "lcm/eventlog.h"
 #include "test_setup.hpp"
 
@@ -37,7 +41,8 @@ std::string result_without_wall(const fs::path& dir) {
 }
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::path(::testing::TempDir()) / ("codesign_run_" + name);
+  // The process id keeps concurrent test runs (other build trees on the machine) apart.
+  const fs::path d = fs::path(::testing::TempDir()) / ("codesign_run_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   return d;
 }
@@ -136,14 +141,22 @@ TEST(Run, TelemetryLogHoldsEveryChannelAndChangesNothing) {
   fs::create_directories(logged);
   const fs::path log = logged / "telemetry.lcm";
   o.telemetry_url = "file://" + log.string() + "?mode=w";
-  ASSERT_TRUE(run_codesign(test::tiny_run(), o).completed);
+  const RunResult on = run_codesign(test::tiny_run(), o);
+  ASSERT_TRUE(on.completed);
   EXPECT_EQ(slurp(plain / "policy.bin"), slurp(logged / "policy.bin"));
 
   std::map<std::string, int> count;
+  std::vector<codesign_lcm::sim_step_t> training;
   lcm_eventlog_t* in = lcm_eventlog_create(log.c_str(), "r");
   ASSERT_NE(in, nullptr);
   while (lcm_eventlog_event_t* e = lcm_eventlog_read_next_event(in)) {
-    ++count[std::string(e->channel, e->channellen)];
+    const std::string channel(e->channel, e->channellen);
+    ++count[channel];
+    if (channel == "CODESIGN_TRAIN_STEP") {
+      codesign_lcm::sim_step_t m;
+      EXPECT_EQ(m.decode(e->data, 0, e->datalen), e->datalen);
+      training.push_back(m);
+    }
     lcm_eventlog_free_event(e);
   }
   lcm_eventlog_destroy(in);
@@ -159,6 +172,33 @@ TEST(Run, TelemetryLogHoldsEveryChannelAndChangesNothing) {
   EXPECT_EQ(count["CODESIGN_SIM_STEP"],
             rows(logged / "eval" / "best_trace.csv") + rows(logged / "eval" / "runner_up_trace.csv"));
   EXPECT_GT(count["CODESIGN_SIM_STEP"], 2);
+  // Training environment 0, the end of every 2nd decision: it takes n_steps decisions in each of
+  // the 6 iterations.
+  const LoopConfig& lc = test::tiny_run().loop;
+  EXPECT_EQ(count["CODESIGN_TRAIN_STEP"], 6 * lc.ppo.n_steps / 2);
+  EXPECT_GT(count["CODESIGN_TRAIN_STEP"], 0);
+  // Each is stamped with the timestep at the start of its iteration and carries environment 0's
+  // design of that iteration (sampled.csv: k, t after the iteration, i, j).
+  std::map<std::int64_t, int> design_of_env0;  // start timestep -> j
+  const io::CsvTable sampled = io::read_csv((logged / "sampled.csv").string());
+  const std::int64_t per_iteration = 4 * lc.ppo.n_steps;
+  for (std::size_t r = 0; r < sampled.rows(); ++r)
+    if (sampled.integer(r, sampled.column("i")) == 0)
+      design_of_env0[sampled.integer(r, sampled.column("t")) - per_iteration] =
+          static_cast<int>(sampled.integer(r, sampled.column("j")));
+  for (const codesign_lcm::sim_step_t& m : training) {
+    ASSERT_EQ(design_of_env0.count(m.timestep), 1u) << m.timestep;
+    EXPECT_EQ(m.design, design_of_env0[m.timestep]) << m.timestep;
+    EXPECT_GT(m.t_s, 0.0);  // a step of the episode, not the settled state
+    EXPECT_GE(m.decision, 0);
+    EXPECT_LT(m.decision, lc.ppo.n_steps);
+  }
+  // The run counts what it published: every message of the log.
+  int total = 0;
+  for (const auto& [channel, n] : count) total += n;
+  EXPECT_EQ(on.telemetry_messages, total);
+  EXPECT_GT(on.telemetry_s, 0.0);
+  EXPECT_LT(on.telemetry_s, on.wall_s);
 }
 
 }  // namespace

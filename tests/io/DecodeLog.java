@@ -16,6 +16,7 @@ public class DecodeLog {
   private static long decode(String channel, byte[] data) throws IOException {
     switch (channel) {
       case "CODESIGN_SIM_STEP": return new codesign_lcm.sim_step_t(data).timestep;
+      case "CODESIGN_TRAIN_STEP": return new codesign_lcm.sim_step_t(data).timestep;
       case "CODESIGN_EPISODE": return new codesign_lcm.episode_t(data).timestep;
       case "CODESIGN_PPO": return new codesign_lcm.ppo_update_t(data).timestep;
       case "CODESIGN_DISTRIBUTION": return new codesign_lcm.distribution_t(data).timestep;

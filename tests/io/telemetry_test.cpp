@@ -168,7 +168,7 @@ void expect_equal(const codesign_lcm::distribution_t& a, const codesign_lcm::dis
 // Collects the messages an LCM instance delivers, by channel. (liblcm's C API: its C++ wrapper's
 // typed subscriptions crash under the sanitizers of the ASan+UBSan build.)
 struct Collector {
-  std::vector<codesign_lcm::sim_step_t> sim_steps;
+  std::vector<codesign_lcm::sim_step_t> sim_steps, training_steps;
   std::vector<codesign_lcm::episode_t> episodes;
   std::vector<codesign_lcm::ppo_update_t> ppo_updates;
   std::vector<codesign_lcm::distribution_t> distributions;
@@ -190,6 +190,7 @@ struct Collector {
     const std::string c = channel;
     self.channels.push_back(c);
     if (c == io::kSimStepChannel) self.take(rb, self.sim_steps);
+    else if (c == io::kTrainStepChannel) self.take(rb, self.training_steps);
     else if (c == io::kEpisodeChannel) self.take(rb, self.episodes);
     else if (c == io::kPpoChannel) self.take(rb, self.ppo_updates);
     else if (c == io::kDistributionChannel) self.take(rb, self.distributions);
@@ -211,12 +212,13 @@ void publish_all(io::Telemetry& t) {
     t.publish(episode(k));
     t.publish(ppo(k));
     t.publish(distribution(k));
+    t.publish_training(sim_step(10 + k));
   }
 }
 
 const std::vector<std::string> kChannelsInOrder = {
-    io::kSimStepChannel, io::kEpisodeChannel, io::kPpoChannel, io::kDistributionChannel,
-    io::kSimStepChannel, io::kEpisodeChannel, io::kPpoChannel, io::kDistributionChannel};
+    io::kSimStepChannel, io::kEpisodeChannel, io::kPpoChannel, io::kDistributionChannel, io::kTrainStepChannel,
+    io::kSimStepChannel, io::kEpisodeChannel, io::kPpoChannel, io::kDistributionChannel, io::kTrainStepChannel};
 
 }  // namespace
 
@@ -225,6 +227,7 @@ TEST(Telemetry, ChannelNames) {
   EXPECT_STREQ(io::kEpisodeChannel, "CODESIGN_EPISODE");
   EXPECT_STREQ(io::kPpoChannel, "CODESIGN_PPO");
   EXPECT_STREQ(io::kDistributionChannel, "CODESIGN_DISTRIBUTION");
+  EXPECT_STREQ(io::kTrainStepChannel, "CODESIGN_TRAIN_STEP");
 }
 
 TEST(Telemetry, MemqRoundTripEveryField) {
@@ -245,9 +248,11 @@ TEST(Telemetry, MemqRoundTripEveryField) {
   ASSERT_EQ(c.episodes.size(), 2u);
   ASSERT_EQ(c.ppo_updates.size(), 2u);
   ASSERT_EQ(c.distributions.size(), 2u);
+  ASSERT_EQ(c.training_steps.size(), 2u);
   for (int k = 0; k < 2; ++k) {
     SCOPED_TRACE(k);
     expect_equal(c.sim_steps[k], sim_step(k));
+    expect_equal(c.training_steps[k], sim_step(10 + k));
     expect_equal(c.episodes[k], episode(k));
     expect_equal(c.ppo_updates[k], ppo(k));
     expect_equal(c.distributions[k], distribution(k));
@@ -309,7 +314,9 @@ TEST(Telemetry, NullAndRecording) {
   ASSERT_EQ(rec.episodes().size(), 2u);
   ASSERT_EQ(rec.ppo_updates().size(), 2u);
   ASSERT_EQ(rec.distributions().size(), 2u);
+  ASSERT_EQ(rec.training_steps().size(), 2u);
   expect_equal(rec.sim_steps()[1], sim_step(1));
+  expect_equal(rec.training_steps()[1], sim_step(11));
   expect_equal(rec.episodes()[1], episode(1));
   expect_equal(rec.ppo_updates()[1], ppo(1));
   expect_equal(rec.distributions()[1], distribution(1));
@@ -357,7 +364,7 @@ TEST(Telemetry, LogFileDecodedByTheJavaTypesJar) {
     }
   }
   EXPECT_EQ(failures, 0) << out;
-  ASSERT_EQ(decoded.size(), 4u) << out;
+  ASSERT_EQ(decoded.size(), 5u) << out;
   auto sum = [](auto make, int n) {
     long long s = 0;
     for (int k = 0; k < n; ++k) s += make(k).timestep;
@@ -367,6 +374,9 @@ TEST(Telemetry, LogFileDecodedByTheJavaTypesJar) {
   EXPECT_EQ(decoded[io::kEpisodeChannel], std::make_pair(2LL, sum(episode, 2))) << out;
   EXPECT_EQ(decoded[io::kPpoChannel], std::make_pair(2LL, sum(ppo, 2))) << out;
   EXPECT_EQ(decoded[io::kDistributionChannel], std::make_pair(2LL, sum(distribution, 2))) << out;
+  EXPECT_EQ(decoded[io::kTrainStepChannel],
+            std::make_pair(2LL, static_cast<long long>(sim_step(10).timestep + sim_step(11).timestep)))
+      << out;
   fs::remove_all(dir);
 #endif
 }

@@ -1,0 +1,63 @@
+// ThreadEnvPool's step observer: the state at the end of every N-th decision of one environment,
+// equal to that environment's own trace.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <vector>
+
+#include "codesign/env_pool.hpp"
+
+namespace {
+
+using namespace codesign;
+using coopt::EpisodeSetup;
+using coopt::TraceRow;
+
+TEST(ThreadEnvPool, StepObserverSeesTheEndOfEveryNthDecision) {
+  auto sims = std::make_shared<coopt::SimulatorPool>(fem::WhiskerModelSpec{}, fem::SceneConfig{}, fem::SolverConfig{});
+  const coopt::TaskConfig task;
+  coopt::ThreadEnvPool pool(sims, task, 2, 1);
+  std::vector<TraceRow> seen;
+  std::vector<int> designs;
+  pool.set_step_observer(
+      0,
+      [&](const EpisodeSetup& s, const TraceRow& r) {
+        designs.push_back(s.design);
+        seen.push_back(r);
+      },
+      2);
+  const EpisodeSetup a{21, 2.0, 0.0, 0.5, 0.0}, b{63, 1.0, 3.0, 1.5, 0.0};
+  pool.start({a, b});
+  const int decisions = 7;
+  Eigen::MatrixXd actions(1, 2);
+  actions << 0.02, -0.4;
+  for (int k = 0; k < decisions; ++k) pool.step(actions, true);
+
+  // The same episode on its own, recorded: row 0 is the settled state, then action_hold_steps
+  // rows per decision, so decision d (1-based) ends at row d * hold.
+  coopt::WhiskerEnv env(sims, task);
+  env.set_recording(true);
+  env.set_episode(a);
+  env.reset(std::nullopt);
+  Eigen::VectorXd act(1);
+  act[0] = 0.02;
+  for (int k = 0; k < decisions; ++k) ASSERT_FALSE(env.step(act).done()) << k;
+  const std::vector<TraceRow>& trace = env.trace();
+  ASSERT_EQ(seen.size(), static_cast<std::size_t>(decisions / 2));
+  for (std::size_t i = 0; i < seen.size(); ++i) {
+    const TraceRow& want = trace[static_cast<std::size_t>(2 * (i + 1) * task.action_hold_steps)];
+    EXPECT_EQ(seen[i].t_s, want.t_s) << i;
+    EXPECT_EQ(seen[i].force_mN, want.force_mN) << i;
+    EXPECT_EQ(seen[i].theta_rad, want.theta_rad) << i;
+    EXPECT_EQ(seen[i].strain, want.strain) << i;
+    EXPECT_EQ(seen[i].decision, want.decision) << i;
+    EXPECT_EQ(seen[i].action, want.action) << i;
+    EXPECT_EQ(designs[i], 21);
+  }
+  // Off: nothing more.
+  pool.set_step_observer(0, nullptr, 2);
+  for (int k = 0; k < 2; ++k) pool.step(actions, true);
+  EXPECT_EQ(seen.size(), static_cast<std::size_t>(decisions / 2));
+}
+
+}  // namespace
