@@ -12,6 +12,7 @@
 #include <string>
 
 #include "base/errors.hpp"
+#include "codesign/episode_render.hpp"
 #include "codesign/run.hpp"
 #include "commands.hpp"
 #include "sim_setup.hpp"
@@ -66,9 +67,14 @@ int run_main_job(const RunCliOptions& o) {
   ro.telemetry_url = o.telemetry ? *o.telemetry : setup.telemetry_url;
   ro.telemetry_train_every = setup.telemetry_train_every;
   const coopt::RunResult r = coopt::run_codesign(s, ro);
+  if (!r.completed) return 4;
+  // The first evaluation episodes of d* and the runner-up as PNG frames ([render], docs/rendering.md).
+  if (setup.render.enabled)
+    coopt::render_run_frames(out, std::make_shared<coopt::SimulatorPool>(s.spec, s.scene, s.solver), s.loop.task,
+                             s.loop.codesign.eval_episodes, setup.render, /*force=*/true);
   // The paper's figures from the finished run (RUN/figures/); a problem there is a warning only.
-  if (r.completed && !o.no_figures) draw_run_figures(out);
-  return r.completed ? 0 : 4;
+  if (!o.no_figures) draw_run_figures(out);
+  return 0;
 }
 
 }  // namespace

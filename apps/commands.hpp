@@ -19,6 +19,7 @@ void add_mesh_command(CLI::App& root, Runner& run);       // cmd_mesh.cpp
 void add_sim_command(CLI::App& root, Runner& run);        // cmd_sim.cpp
 void add_train_gym_command(CLI::App& root, Runner& run);  // cmd_train_gym.cpp
 void add_figures_command(CLI::App& root, Runner& run);    // cmd_figures.cpp
+void add_render_command(CLI::App& root, Runner& run);     // cmd_render.cpp
 // The figures of a finished run into RUN/figures/ (cmd_figures.cpp), called at the end of
 // `codesign run`: never throws; a missing gnuplot or a failing script is one warning line on
 // stderr. Returns true if every figure was drawn.
@@ -29,5 +30,6 @@ void add_bench_fem_command(CLI::App& bench, Runner& run);  // bench_fem.cpp
 void add_bench_ppo_command(CLI::App& bench, Runner& run);  // bench_ppo.cpp
 void add_bench_codesign_command(CLI::App& bench, Runner& run);  // bench_codesign.cpp
 void add_bench_telemetry_command(CLI::App& bench, Runner& run);  // bench_telemetry.cpp
+void add_bench_render_command(CLI::App& bench, Runner& run);  // bench_render.cpp
 
 }  // namespace codesign::app

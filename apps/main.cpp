@@ -39,12 +39,14 @@ int main(int argc, char** argv) {
   app::add_train_gym_command(root, run);
   app::add_figures_command(root, run);
   app::add_check_command(root, run);
+  app::add_render_command(root, run);
   CLI::App* bench = root.add_subcommand("bench", "Speed benchmarks that print figures and ratios");
   bench->require_subcommand(1);
   app::add_bench_fem_command(*bench, run);
   app::add_bench_codesign_command(*bench, run);
   app::add_bench_ppo_command(*bench, run);
   app::add_bench_telemetry_command(*bench, run);
+  app::add_bench_render_command(*bench, run);
 
   std::vector<std::string> args = with_default_command(argc, argv);
   if (!args.empty() && !args.front().empty() && args.front().front() != '-') {

@@ -32,6 +32,7 @@ SimSetup read_sim_setup(io::TableReader& root) {
     s.telemetry_train_every = static_cast<int>(tel.integer("train_decision_every", 2, 0, 1000000));
     tel.finish();
   }
+  s.render = io::read_render_config(root);
   root.finish();
   return s;
 }

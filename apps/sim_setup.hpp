@@ -9,6 +9,7 @@
 #include "fem/simulator.hpp"
 #include "fem/whisker_model.hpp"
 #include "io/fem_config.hpp"
+#include "io/render_config.hpp"
 #include "io/toml_reader.hpp"
 #include "rl/ppo.hpp"
 
@@ -24,6 +25,7 @@ struct SimSetup {
   rl::PpoConfig ppo;               // [ppo] over the paper's settings (rl::paper_ppo_config)
   std::string telemetry_url;       // [telemetry] url: LCM URL, "" = off
   int telemetry_train_every = 2;   // [telemetry] train_decision_every: every N-th decision of training env 0 (0 = none)
+  io::RenderConfig render;         // [render]: PNG frames (docs/rendering.md)
 };
 
 // Reads [geometry], [mesh], [fibres] (layout + stiffness), [material], [scene], [solver], [sim]

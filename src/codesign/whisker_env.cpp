@@ -179,6 +179,7 @@ void WhiskerEnv::record(double action) {
   const fem::Sensors s = sim_->sensors();
   trace_.push_back({decision_, s.time_s, s.theta_rad, s.contact_force_mN, s.axial_strain, s.tip_position_mm,
                     s.plate_z_mm, action, strain_zero_});
+  if (observer_) observer_(*sim_, trace_.back());
 }
 
 rl::StepResult WhiskerEnv::step(const Eigen::VectorXd& action) {

@@ -26,6 +26,7 @@
 // (EpisodeSetup) before reset(); reset()'s seed is ignored.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -84,6 +85,10 @@ class WhiskerEnv final : public rl::Env {
   // Keep a TraceRow per simulation step (off by default; cleared at reset()).
   void set_recording(bool on) { recording_ = on; }
   const std::vector<TraceRow>& trace() const { return trace_; }
+  // Called with the simulator and the new row each time a trace row is kept (recording on):
+  // after settling and after every simulation step. For renders (episode_render.hpp).
+  using StepObserver = std::function<void(const fem::Simulator&, const TraceRow&)>;
+  void set_step_observer(StepObserver observer) { observer_ = std::move(observer); }
 
   const rl::EnvSpec& spec() const override { return spec_; }
   Eigen::VectorXd reset(std::optional<std::uint64_t> seed) override;
@@ -130,6 +135,7 @@ class WhiskerEnv final : public rl::Env {
   bool recording_ = false;
   double settle_s_ = 0.0, step_s_ = 0.0;
   std::vector<TraceRow> trace_;
+  StepObserver observer_;
 };
 
 }  // namespace codesign::coopt
