@@ -75,6 +75,12 @@ int run_render(const RenderCliOptions& o) {
     throw InputError("command line: with --run the designs come from result.toml; --design, --pressures, "
                      "--compare and --sim go with --config");
 
+  // Refuse before simulating (write_frames checks again before writing).
+  std::error_code ec;
+  if (!o.force && fs::exists(fs::path(o.out) / "frame_0000.png", ec))
+    throw InputError(o.out + ": already holds frame_0000.png of an earlier render; choose another folder or pass "
+                     "--force");
+
   auto sims = std::make_shared<coopt::SimulatorPool>(setup.spec, setup.scene, setup.solver);
   const coopt::TaskConfig& task = setup.task;
   const int eval_n = setup.codesign.eval_episodes;

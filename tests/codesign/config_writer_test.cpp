@@ -11,6 +11,7 @@
 #include "codesign/outer_loop.hpp"
 #include "io/config_writer.hpp"
 #include "io/fem_config.hpp"
+#include "io/render_config.hpp"
 #include "io/gym_config.hpp"
 
 namespace codesign::coopt {
@@ -21,12 +22,14 @@ struct RunTables {
   LoopConfig loop;
 };
 
-// A run config read as `codesign run` reads it (apps/sim_setup.cpp; [sim] read and dropped).
+// A run config read as `codesign run` reads it (apps/sim_setup.cpp; [sim] and [render] read and
+// dropped: they are not part of the resolved config).
 RunTables read_run(const std::string& text) {
   io::TableReader root = io::TableReader::from_string(text, "run.toml");
   RunTables r;
   r.fem = io::read_fem_tables(root);
   io::read_sim_scenario(root);
+  io::read_render_config(root);
   r.loop.task = read_task_config(root);
   r.loop.codesign = read_codesign_config(root, r.loop.task);
   io::TableReader ppo = root.table("ppo");
