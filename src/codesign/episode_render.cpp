@@ -43,7 +43,16 @@ io::FrameOverlay overlay_of(const TraceRow& r, const TaskConfig& task, const std
 
 TraceRow row_of(const fem::Simulator& sim, int decision, double action) {
   const fem::Sensors s = sim.sensors();
-  return {decision, s.time_s, s.theta_rad, s.contact_force_mN, s.axial_strain, s.tip_position_mm, s.plate_z_mm, action};
+  TraceRow r;
+  r.decision = decision;
+  r.t_s = s.time_s;
+  r.theta_rad = s.theta_rad;
+  r.force_mN = s.contact_force_mN;
+  r.strain = s.axial_strain;
+  r.tip_mm = s.tip_position_mm;
+  r.plate_z_mm = s.plate_z_mm;
+  r.action = action;
+  return r;
 }
 
 // Keeps the frames to render: every `every` steps, and always the last step seen.
