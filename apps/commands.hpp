@@ -25,6 +25,9 @@ void add_render_command(CLI::App& root, Runner& run);     // cmd_render.cpp
 // stderr. Returns true if every figure was drawn.
 bool draw_run_figures(const std::string& run_dir);
 void add_check_command(CLI::App& root, Runner& run);      // cmd_check.cpp
+void add_baseline_command(CLI::App& root, Runner& run);   // cmd_baseline.cpp (`baseline pid`)
+void add_sweep_command(CLI::App& root, Runner& run);      // cmd_sweep.cpp
+void add_refine_command(CLI::App& root, Runner& run);     // cmd_refine.cpp
 // `codesign bench <what>`: main.cpp creates the `bench` parent.
 void add_bench_fem_command(CLI::App& bench, Runner& run);  // bench_fem.cpp
 void add_bench_ppo_command(CLI::App& bench, Runner& run);  // bench_ppo.cpp

@@ -40,6 +40,9 @@ int main(int argc, char** argv) {
   app::add_figures_command(root, run);
   app::add_check_command(root, run);
   app::add_render_command(root, run);
+  app::add_baseline_command(root, run);
+  app::add_sweep_command(root, run);
+  app::add_refine_command(root, run);
   CLI::App* bench = root.add_subcommand("bench", "Speed benchmarks that print figures and ratios");
   bench->require_subcommand(1);
   app::add_bench_fem_command(*bench, run);

@@ -21,6 +21,8 @@ SimSetup read_sim_setup(io::TableReader& root) {
   s.scenario = io::read_sim_scenario(root);
   s.task = coopt::read_task_config(root);
   s.codesign = coopt::read_codesign_config(root, s.task);
+  s.pid = coopt::read_pid_config(root);
+  s.sweep = coopt::read_sweep_config(root, s.task);
   {
     io::TableReader ppo = root.table("ppo");
     s.ppo = io::read_ppo_config(ppo, rl::paper_ppo_config());

@@ -5,6 +5,8 @@
 #include <string>
 
 #include "codesign/codesign_config.hpp"
+#include "codesign/design_sweep.hpp"
+#include "codesign/pid_tuning.hpp"
 #include "codesign/task_config.hpp"
 #include "fem/simulator.hpp"
 #include "fem/whisker_model.hpp"
@@ -23,6 +25,8 @@ struct SimSetup {
   coopt::TaskConfig task;          // [task]
   coopt::CodesignConfig codesign;  // [codesign]
   rl::PpoConfig ppo;               // [ppo] over the paper's settings (rl::paper_ppo_config)
+  coopt::PidTuningConfig pid;      // [pid]: PID baseline tuning
+  coopt::SweepConfig sweep;        // [sweep]: the design landscape
   std::string telemetry_url;       // [telemetry] url: LCM URL, "" = off
   int telemetry_train_every = 2;   // [telemetry] train_decision_every: every N-th decision of training env 0 (0 = none)
   io::RenderConfig render;         // [render]: PNG frames (docs/rendering.md)

@@ -1,6 +1,9 @@
 #include "codesign/config_reader.hpp"
 
+#include <array>
 #include <numbers>
+#include <string>
+#include <vector>
 
 #include "fem/design.hpp"
 
@@ -76,6 +79,59 @@ CodesignConfig read_codesign_config(io::TableReader& root, const TaskConfig& tas
   c.checkpoint_every = t.integer("checkpoint_every", c.checkpoint_every, 1, 1'000'000'000);
   c.seed = static_cast<std::uint64_t>(t.integer("seed", 1, 0, std::int64_t{1} << 62));
   t.finish();
+  return c;
+}
+
+namespace {
+
+// A [lo, hi] pair of numbers in [min, max] with lo <= hi.
+std::array<double, 2> read_pair(io::TableReader& t, const char* key, std::array<double, 2> def, double min, double max) {
+  const std::vector<double> v = t.numbers(key, {def[0], def[1]}, min, max, 2, 2);
+  if (v[0] > v[1]) t.fail(key, "lower bound " + std::to_string(v[0]) + " is above upper bound " + std::to_string(v[1]));
+  return {v[0], v[1]};
+}
+
+}  // namespace
+
+PidTuningConfig read_pid_config(io::TableReader& root) {
+  io::TableReader t = root.table("pid");
+  PidTuningConfig c;
+  c.box.kp = read_pair(t, "kp_range", c.box.kp, 0.0, 100.0);
+  c.box.ki = read_pair(t, "ki_range", c.box.ki, 0.0, 100.0);
+  c.box.kd = read_pair(t, "kd_range", c.box.kd, 0.0, 100.0);
+  c.box.offset = read_pair(t, "strain_offset_range", c.box.offset, -100.0, 100.0);
+  const std::vector<double> g = t.numbers("start_gains", {c.start.kp, c.start.ki, c.start.kd}, 0.0, 100.0, 3, 3);
+  c.start = {g[0], g[1], g[2]};
+  c.strain_scale = t.number("strain_scale", c.strain_scale, 1e-9, 1.0);
+  c.tuning_phases = static_cast<int>(t.integer("tuning_phases", c.tuning_phases, 1, 1000));
+  c.test_episodes = static_cast<int>(t.integer("test_episodes", c.test_episodes, 1, 100000));
+  c.search.method = local_method_from_name(
+      t.string("method", to_string(c.search.method), {"bobyqa", "cobyla", "neldermead", "sbplx"}));
+  c.search.starts = static_cast<int>(t.integer("starts", c.search.starts, 1, 100));
+  c.search.max_evals = static_cast<int>(t.integer("max_evals", c.search.max_evals, c.search.starts, 100000));
+  c.search.xtol_rel = t.number("xtol_rel", c.search.xtol_rel, 0.0, 0.5);
+  c.search.ftol_abs = t.number("ftol_abs", c.search.ftol_abs, 0.0, 1.0);
+  t.finish();
+  c.validate();  // every field was range-checked above; this cannot fail
+  return c;
+}
+
+SweepConfig read_sweep_config(io::TableReader& root, const TaskConfig& task) {
+  io::TableReader t = root.table("sweep");
+  SweepConfig c;
+  c.pressures_kPa = t.numbers("pressures_kPa", c.pressures_kPa, 0.0, task.pressure_max_kPa, 1, 21);
+  c.controllers.clear();
+  if (t.boolean("fixed_theta", true)) c.controllers.push_back(SweepController::FixedTheta);
+  if (t.boolean("pid_force", true)) c.controllers.push_back(SweepController::PidForce);
+  if (t.boolean("pid_strain", true)) c.controllers.push_back(SweepController::PidStrain);
+  if (c.controllers.empty()) t.fail("pid_strain", "fixed_theta, pid_force and pid_strain are all false: nothing to sweep");
+  c.fixed_theta.scan_points =
+      static_cast<int>(t.integer("fixed_theta_scan_points", c.fixed_theta.scan_points, 3, 1001));
+  c.fixed_theta.max_evals = static_cast<int>(t.integer("fixed_theta_max_evals", c.fixed_theta.max_evals, 1, 10000));
+  c.first_design = static_cast<int>(t.integer("first_design", c.first_design, 0, fem::kDesignCount - 1));
+  c.last_design = static_cast<int>(t.integer("last_design", c.last_design, c.first_design, fem::kDesignCount - 1));
+  t.finish();
+  c.validate();
   return c;
 }
 

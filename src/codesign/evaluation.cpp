@@ -9,10 +9,20 @@
 
 namespace codesign::coopt {
 
-double evaluation_phase(int k, int n) { return 2.0 * std::numbers::pi * (k + 0.5) / n; }
+double evaluation_phase(int k, int n, double offset) { return 2.0 * std::numbers::pi * (k + offset) / n; }
 
 DesignEvaluation evaluate_design(const Controller& controller, const std::shared_ptr<SimulatorPool>& sims,
                                  const TaskConfig& task, EpisodeSetup setup, const EvaluationOptions& options) {
+  ControllerFactory make;
+  if (controller)
+    make = [&controller] {
+      return FeedbackController([&controller](const Eigen::VectorXd& obs, const fem::Sensors&) { return controller(obs); });
+    };
+  return evaluate_feedback(make, sims, task, setup, options);
+}
+
+DesignEvaluation evaluate_feedback(const ControllerFactory& make, const std::shared_ptr<SimulatorPool>& sims,
+                                   const TaskConfig& task, EpisodeSetup setup, const EvaluationOptions& options) {
   if (options.episodes < 1) throw std::invalid_argument("evaluate_design: episodes must be >= 1");
   const auto n = static_cast<std::size_t>(options.episodes);
   DesignEvaluation out;
@@ -24,14 +34,15 @@ DesignEvaluation evaluate_design(const Controller& controller, const std::shared
   pool.parallel_for(n, [&](std::size_t k) {
     WhiskerEnv env(sims, task);
     EpisodeSetup s = setup;
-    s.plate_phase_rad = evaluation_phase(static_cast<int>(k), options.episodes);
+    s.plate_phase_rad = evaluation_phase(static_cast<int>(k), options.episodes, options.phase_offset);
     env.set_episode(s);
+    const FeedbackController controller = make ? make() : FeedbackController();
     env.set_recording(k == 0 && options.trace_first);
     Eigen::VectorXd obs = env.reset(std::nullopt);
     Eigen::VectorXd a(1);
     double ret = 0.0;
     for (;;) {
-      a[0] = controller ? controller(obs) : 0.0;
+      a[0] = controller ? controller(obs, env.simulator().sensors()) : 0.0;
       rl::StepResult r = env.step(a);
       ret += r.reward;
       if (r.done()) {
@@ -46,7 +57,7 @@ DesignEvaluation evaluate_design(const Controller& controller, const std::shared
     if (k == 0 && options.trace_first) out.trace = env.trace();
   });
   out.setup = setup;
-  out.setup.plate_phase_rad = evaluation_phase(0, options.episodes);
+  out.setup.plate_phase_rad = evaluation_phase(0, options.episodes, options.phase_offset);
   double sum = 0.0, band = 0.0;
   for (std::size_t k = 0; k < n; ++k) sum += out.returns[k], band += out.band_fraction[k];
   out.mean_return = sum / static_cast<double>(n);
@@ -59,7 +70,7 @@ DesignEvaluation evaluate_design(const Controller& controller, const std::shared
 
 FixedThetaResult best_fixed_theta(const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task,
                                   EpisodeSetup setup, int phases, std::size_t threads, int scan_points,
-                                  double tolerance_rad) {
+                                  double tolerance_rad, double phase_offset) {
   if (scan_points < 3) throw std::invalid_argument("best_fixed_theta: scan_points must be >= 3");
   const double lim = sims->scene().theta_limit_deg * std::numbers::pi / 180.0;
   FixedThetaResult best;
@@ -68,6 +79,7 @@ FixedThetaResult best_fixed_theta(const std::shared_ptr<SimulatorPool>& sims, co
   opt.episodes = phases;
   opt.threads = threads;
   opt.trace_first = false;
+  opt.phase_offset = phase_offset;
   auto value = [&](double th) {
     EpisodeSetup s = setup;
     s.theta0_rad = th;

@@ -18,14 +18,27 @@
 #include "codesign/simulator_pool.hpp"
 #include "codesign/task_config.hpp"
 #include "codesign/whisker_env.hpp"
+#include "fem/sensors.hpp"
 
 namespace codesign::coopt {
 
 // Observation -> action (before clipping).
 using Controller = std::function<double(const Eigen::VectorXd& obs)>;
+// A controller with memory that also reads the simulator's sensors after each decision (the
+// contact force F among them: an oracle the policy does not have), e.g. a PID. A factory makes
+// a fresh one for every episode, so episodes (which run in parallel) share no state.
+using FeedbackController = std::function<double(const Eigen::VectorXd& obs, const fem::Sensors& sensors)>;
+using ControllerFactory = std::function<FeedbackController()>;
+
+// Phase offset of the searches that tune a baseline (PID gains, fixed θ, p*): episode i of n
+// tuning episodes starts at plate phase 2π(i + g)/n with g = (√5 − 1)/2. g is irrational, so
+// no tuning phase equals an evaluation phase 2π(k + ½)/m for any k, m: tuning and evaluation
+// never share a plate phase.
+inline constexpr double kTuningPhaseOffset = 0.6180339887498949;
 
 struct EvaluationOptions {
   int episodes = 100;
+  double phase_offset = 0.5;   // episode k starts at plate phase 2π(k + phase_offset)/episodes
   std::size_t threads = 1;     // 0: all cores
   bool trace_first = true;     // keep the per-step trace of episode 0
 };
@@ -41,11 +54,14 @@ struct DesignEvaluation {
   std::vector<TraceRow> trace;        // episode 0, if asked
 };
 
-// Plate phase of evaluation episode k of n.
-double evaluation_phase(int k, int n);
+// Plate phase of evaluation episode k of n: 2π(k + offset)/n.
+double evaluation_phase(int k, int n, double offset = 0.5);
 
 DesignEvaluation evaluate_design(const Controller& controller, const std::shared_ptr<SimulatorPool>& sims,
                                  const TaskConfig& task, EpisodeSetup setup, const EvaluationOptions& options);
+// The same for a controller with memory and sensor access (one fresh controller per episode).
+DesignEvaluation evaluate_feedback(const ControllerFactory& make, const std::shared_ptr<SimulatorPool>& sims,
+                                   const TaskConfig& task, EpisodeSetup setup, const EvaluationOptions& options);
 
 // The best constant base angle for a design: θ0 maximising the mean return over `phases`
 // plate phases with the base held still (action 0), by golden-section search on
@@ -56,8 +72,9 @@ struct FixedThetaResult {
   DesignEvaluation evaluation;  // at θ0 over `phases` phases
   int evaluations = 0;          // episodes run in the search
 };
+// `phase_offset` places the search's plate phases (2π(k + offset)/phases).
 FixedThetaResult best_fixed_theta(const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task,
                                   EpisodeSetup setup, int phases, std::size_t threads, int scan_points = 13,
-                                  double tolerance_rad = 1e-3);
+                                  double tolerance_rad = 1e-3, double phase_offset = 0.5);
 
 }  // namespace codesign::coopt

@@ -65,5 +65,48 @@ TEST(ConfigReader, SingleDesignIndexRange) {
             "run.toml: codesign.single_design_index: value 110 is out of range; allowed [0, 109]");
 }
 
+std::string pid_sweep_error(const std::string& text) {
+  try {
+    io::TableReader r = io::TableReader::from_string(text, "run.toml");
+    read_pid_config(r);
+    read_sweep_config(r, TaskConfig{});
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ConfigReader, PidAndSweepTables) {
+  io::TableReader r = io::TableReader::from_string(
+      "[pid]\nkp_range = [0.0, 0.3]\nmethod = \"cobyla\"\nstarts = 2\nmax_evals = 10\n"
+      "[sweep]\npressures_kPa = [0.0, 20.0]\npid_strain = false\n",
+      "run.toml");
+  const PidTuningConfig p = read_pid_config(r);
+  EXPECT_EQ(p.box.kp[1], 0.3);
+  EXPECT_EQ(p.search.method, LocalMethod::Cobyla);
+  EXPECT_EQ(p.search.max_evals, 10);
+  const SweepConfig s = read_sweep_config(r, TaskConfig{});
+  EXPECT_EQ(s.pressures_kPa, (std::vector<double>{0.0, 20.0}));
+  EXPECT_EQ(s.controllers, (std::vector<SweepController>{SweepController::FixedTheta, SweepController::PidForce}));
+  EXPECT_EQ(pid_sweep_error(""), "");
+}
+
+TEST(ConfigReader, BadPidAndSweepValuesNameFileKeyAndRange) {
+  EXPECT_EQ(pid_sweep_error("[pid]\nkp_range = [0.5, 0.1]\n"),
+            "run.toml: pid.kp_range: lower bound 0.500000 is above upper bound 0.100000");
+  EXPECT_EQ(pid_sweep_error("[pid]\nki_range = [-0.1, 0.1]\n"),
+            "run.toml: pid.ki_range: element 0 = -0.1 is out of range; allowed [0, 100]");
+  EXPECT_EQ(pid_sweep_error("[pid]\nstart_gains = [0.1, nan, 0.0]\n").substr(0, 24), "run.toml: pid.start_gain");
+  EXPECT_EQ(pid_sweep_error("[pid]\nstarts = 5\nmax_evals = 3\n"),
+            "run.toml: pid.max_evals: value 3 is out of range; allowed [5, 100000]");
+  EXPECT_NE(pid_sweep_error("[pid]\nmethod = \"newton\"\n").find("pid.method"), std::string::npos);
+  EXPECT_EQ(pid_sweep_error("[sweep]\npressures_kPa = [0.0, 25.0]\n"),
+            "run.toml: sweep.pressures_kPa: element 1 = 25 is out of range; allowed [0, 20]");
+  EXPECT_EQ(pid_sweep_error("[sweep]\nfixed_theta = false\npid_force = false\npid_strain = false\n"),
+            "run.toml: sweep.pid_strain: fixed_theta, pid_force and pid_strain are all false: nothing to sweep");
+  EXPECT_NE(pid_sweep_error("[sweep]\nfirst_design = 50\nlast_design = 40\n").find("sweep.last_design"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace codesign::coopt

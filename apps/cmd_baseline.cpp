@@ -1,0 +1,157 @@
+// `codesign baseline pid --config run.toml --design J -o DIR [--p1 P] [--p2 P] [--threads N] [--force]`
+//
+// What a control engineer would try first, on one design: a PID on the measured force (an oracle
+// sensor the policy lacks) and a PID on the strain ε (the policy's signal), gains tuned by NLopt
+// ([pid] of the config), and the best fixed base angle for comparison ([sweep] fixed_theta_*),
+// all tuned on the tuning phases and tested on disjoint evaluation phases (docs/baselines.md).
+// Writes DIR/baseline.toml and DIR/eval/<controller>.csv (+ _trace.csv of the first test episode).
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+#include "base/errors.hpp"
+#include "codesign/design_sweep.hpp"
+#include "codesign/pid_tuning.hpp"
+#include "commands.hpp"
+#include "fem/design.hpp"
+#include "io/atomic_file.hpp"
+#include "io/csv_log.hpp"
+#include "sim_setup.hpp"
+
+namespace codesign::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+using io::CsvLog;
+
+struct BaselineOptions {
+  std::string config;
+  std::string out;
+  int design = 21;
+  double p1 = 0.0, p2 = 0.0;
+  int threads = 0;
+  bool force = false;
+};
+
+void write_eval(const fs::path& dir, const std::string& which, const coopt::DesignEvaluation& e) {
+  fs::create_directories(dir);
+  io::write_file_atomically((dir / (which + ".csv")).string(), [&](std::ostream& out) {
+    out << "episode,phase_rad,return,decisions,band_fraction,reason\n";
+    for (std::size_t k = 0; k < e.returns.size(); ++k)
+      out << k << ',' << CsvLog::num(coopt::evaluation_phase(static_cast<int>(k), static_cast<int>(e.returns.size())))
+          << ',' << CsvLog::num(e.returns[k]) << ',' << e.decisions[k] << ',' << CsvLog::num(e.band_fraction[k]) << ','
+          << e.reasons[k] << '\n';
+  });
+  io::write_file_atomically((dir / (which + "_trace.csv")).string(), [&](std::ostream& out) {
+    out << "decision,t_s,theta_rad,F_mN,strain,plate_z_mm,action\n";
+    for (const coopt::TraceRow& r : e.trace)
+      out << r.decision << ',' << CsvLog::num(r.t_s) << ',' << CsvLog::num(r.theta_rad) << ',' << CsvLog::num(r.force_mN)
+          << ',' << CsvLog::num(r.strain) << ',' << CsvLog::num(r.plate_z_mm) << ',' << CsvLog::num(r.action) << '\n';
+  });
+}
+
+void toml_test(std::ostream& out, double tuning_return, int evaluations, const coopt::DesignEvaluation& e) {
+  out << "tuning_return = " << CsvLog::num(tuning_return) << "\n"
+      << "evaluations = " << evaluations << "\n"
+      << "test_return = " << CsvLog::num(e.mean_return) << "\n"
+      << "test_return_std = " << CsvLog::num(e.std_return) << "\n"
+      << "test_episodes = " << e.returns.size() << "\n"
+      << "band_fraction = " << CsvLog::num(e.mean_band_fraction) << "\n\n";
+}
+
+int run_baseline(const BaselineOptions& o) {
+  const SimSetup setup = read_sim_setup(o.config);
+  if (o.design < 0 || o.design >= fem::kDesignCount)
+    throw InputError("--design: " + std::to_string(o.design) + " is out of range; allowed [0, 109]");
+  const double pmax = setup.task.pressure_max_kPa;
+  if (!(o.p1 >= 0 && o.p1 <= pmax) || !(o.p2 >= 0 && o.p2 <= pmax))
+    throw InputError("--p1/--p2: pressures must lie in [0, " + std::to_string(pmax) + "] kPa");
+  const fem::Design d = fem::design_from_index(o.design);
+  const double p2 = d.n == 2 ? o.p2 : 0.0;
+  const fs::path dir(o.out);
+  std::error_code ec;
+  if (fs::exists(dir / "baseline.toml", ec) && !o.force)
+    throw InputError(dir.string() + ": already holds baseline.toml of an earlier baseline; choose another -o or "
+                     "pass --force");
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError(dir.string() + ": cannot create output directory: " + ec.message());
+
+  auto sims = std::make_shared<coopt::SimulatorPool>(setup.spec, setup.scene, setup.solver);
+  const coopt::TaskConfig& task = setup.task;
+  const coopt::PidTuningConfig& pc = setup.pid;
+  const auto threads = static_cast<std::size_t>(o.threads);
+  const coopt::EpisodeSetup es{o.design, o.p1, p2, 0.0, 0.0};
+  std::printf("baseline: j%d {%d, %g mm, %g mm}, p = [%g, %g] kPa; tuning on %d plate phases, testing on %d others; "
+              "NLopt %s, %d starts, %d evaluations\n",
+              o.design, d.n, d.chamber_length_mm, d.wall_mm, o.p1, p2, pc.tuning_phases, pc.test_episodes,
+              coopt::to_string(pc.search.method), pc.search.starts, pc.search.max_evals);
+  std::fflush(stdout);
+
+  std::string toml = "# codesign baseline pid: tuned on plate phases 2*pi*(i + 0.618...)/" +
+                     std::to_string(pc.tuning_phases) + ", tested on 2*pi*(k + 1/2)/" +
+                     std::to_string(pc.test_episodes) + "\n\n";
+  toml += "[design]\ndesign = " + std::to_string(o.design) + "\npressures_kPa = [" + CsvLog::num(o.p1) + ", " +
+          CsvLog::num(p2) + "]\n\n";
+  for (coopt::PidSignal sig : {coopt::PidSignal::Force, coopt::PidSignal::Strain}) {
+    const coopt::PidTuningResult r = coopt::tune_whisker_pid(sims, task, es, sig, pc, threads);
+    const std::string name = std::string("pid_") + coopt::to_string(sig);
+    write_eval(dir / "eval", name, r.test);
+    std::printf("baseline: %-11s kp %.4g ki %.4g kd %.4g setpoint %.6g: tuning return %.2f (%d evaluations); "
+                "test return %.2f +- %.2f over %zu episodes (band %.0f%%)\n",
+                name.c_str(), r.pid.gains.kp, r.pid.gains.ki, r.pid.gains.kd, r.pid.setpoint, r.tuning_return,
+                r.evaluations, r.test.mean_return, r.test.std_return, r.test.returns.size(),
+                100.0 * r.test.mean_band_fraction);
+    std::fflush(stdout);
+    std::ostringstream t;
+    t << "[" << name << "]\nkp = " << CsvLog::num(r.pid.gains.kp) << "\nki = " << CsvLog::num(r.pid.gains.ki)
+      << "\nkd = " << CsvLog::num(r.pid.gains.kd) << "\nsetpoint = " << CsvLog::num(r.pid.setpoint)
+      << (sig == coopt::PidSignal::Force ? "   # F_t, mN\n" : "   # strain\n");
+    if (sig == coopt::PidSignal::Strain)
+      t << "strain_calibrated = " << CsvLog::num(r.strain_calibrated) << "\nsetpoint_offset = " << CsvLog::num(r.offset)
+        << "   # band units\n";
+    toml += t.str();
+    std::ostringstream rest;
+    toml_test(rest, r.tuning_return, r.evaluations, r.test);
+    toml += rest.str();
+  }
+  const coopt::FixedThetaTuning ft =
+      coopt::tune_fixed_theta(sims, task, es, setup.sweep.fixed_theta, pc.tuning_phases, pc.test_episodes, threads);
+  write_eval(dir / "eval", "fixed_theta", ft.test);
+  std::printf("baseline: %-11s theta0 %.3f deg: tuning return %.2f (%d evaluations); test return %.2f +- %.2f over "
+              "%zu episodes (band %.0f%%)\n",
+              "fixed_theta", ft.theta0_rad * 180.0 / std::numbers::pi, ft.tuning_return, ft.evaluations,
+              ft.test.mean_return, ft.test.std_return, ft.test.returns.size(), 100.0 * ft.test.mean_band_fraction);
+  {
+    std::ostringstream t;
+    t << "[fixed_theta]\ntheta0_deg = " << CsvLog::num(ft.theta0_rad * 180.0 / std::numbers::pi) << "\n";
+    toml_test(t, ft.tuning_return, ft.evaluations, ft.test);
+    toml += t.str();
+  }
+  io::write_file_atomically((dir / "baseline.toml").string(), [&](std::ostream& out) { out << toml; });
+  std::printf("baseline: wrote %s\n", (dir / "baseline.toml").string().c_str());
+  return 0;
+}
+
+}  // namespace
+
+void add_baseline_command(CLI::App& root, Runner& run) {
+  CLI::App* base = root.add_subcommand("baseline", "Classical baselines on one design");
+  base->require_subcommand(1);
+  auto opt = std::make_shared<BaselineOptions>();
+  CLI::App* cmd = base->add_subcommand(
+      "pid", "NLopt-tuned PID on the force (oracle) and on the strain, and the best fixed theta, on one design");
+  cmd->add_option("--config", opt->config, "run config (TOML; [pid], [sweep] fixed_theta_*)")->required();
+  cmd->add_option("--design", opt->design, "design index 0..109 (default 21)");
+  cmd->add_option("-o,--out", opt->out, "output directory")->required();
+  cmd->add_option("--p1", opt->p1, "chamber 1 pressure, kPa (default 0)");
+  cmd->add_option("--p2", opt->p2, "chamber 2 pressure, kPa (default 0; ignored for one chamber)");
+  cmd->add_option("--threads", opt->threads, "threads (0: all cores)")->check(CLI::Range(0, 1024));
+  cmd->add_flag("--force", opt->force, "overwrite an earlier baseline.toml in the output directory");
+  cmd->callback([opt, &run] { run = [opt] { return run_baseline(*opt); }; });
+}
+
+}  // namespace codesign::app

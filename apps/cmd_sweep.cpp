@@ -1,0 +1,123 @@
+// `codesign sweep --config run.toml -o DIR [--designs A-B] [--threads N] [--force]`
+//
+// The design landscape (docs/baselines.md): every design of [sweep] on its pressure grid, each
+// with the best fixed θ, the force PID and the strain PID tuned by NLopt ([pid]); DIR/sweep.csv
+// one row per (design, pressures, controller), resumable: run the same command again and it
+// continues after the last finished row. Then the heat-map tables DIR/heatmap_n<N>_<c>.dat and,
+// with gnuplot installed, DIR/heatmap_<c>.png (plots/sweep_heatmap.gp), and a summary per
+// controller.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "base/errors.hpp"
+#include "codesign/design_sweep.hpp"
+#include "commands.hpp"
+#include "fem/design.hpp"
+#include "sim_setup.hpp"
+
+namespace codesign::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct SweepCliOptions {
+  std::string config;
+  std::string out = "runs/sweep";
+  std::string designs;
+  int threads = 0;
+  bool force = false;
+};
+
+std::pair<int, int> parse_designs(const std::string& s) {
+  int a = -1, b = -1;
+  char dash = 0;
+  if (std::sscanf(s.c_str(), "%d%c%d", &a, &dash, &b) == 3 && dash == '-' && 0 <= a && a <= b && b < fem::kDesignCount)
+    return {a, b};
+  if (std::sscanf(s.c_str(), "%d", &a) == 1 && s.find('-') == std::string::npos && 0 <= a && a < fem::kDesignCount)
+    return {a, a};
+  throw InputError("--designs: '" + s + "' is not a design index or range A-B within 0..109");
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open config file");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string hms(double s) {
+  char buf[32];
+  const auto t = static_cast<long>(s + 0.5);
+  std::snprintf(buf, sizeof buf, "%ldh%02ldm%02lds", t / 3600, (t / 60) % 60, t % 60);
+  return buf;
+}
+
+int run_sweep_command(const SweepCliOptions& o) {
+  SimSetup setup = read_sim_setup(o.config);
+  if (!o.designs.empty()) std::tie(setup.sweep.first_design, setup.sweep.last_design) = parse_designs(o.designs);
+  auto sims = std::make_shared<coopt::SimulatorPool>(setup.spec, setup.scene, setup.solver);
+  coopt::SweepOptions so;
+  so.dir = o.out;
+  // The design range is part of what a restart must match.
+  so.config_text = read_text(o.config) + "\n# --designs " + std::to_string(setup.sweep.first_design) + "-" +
+                   std::to_string(setup.sweep.last_design) + "\n";
+  so.force = o.force;
+  so.threads = static_cast<std::size_t>(o.threads);
+  const coopt::PidTuningConfig& pc = setup.pid;
+  std::printf("sweep: designs %d..%d, pressures_kPa [", setup.sweep.first_design, setup.sweep.last_design);
+  for (std::size_t i = 0; i < setup.sweep.pressures_kPa.size(); ++i)
+    std::printf("%s%g", i ? ", " : "", setup.sweep.pressures_kPa[i]);
+  std::printf("] (two chambers: every pair); tuning on %d plate phases, testing on %d others; PID: NLopt %s, "
+              "%d starts, %d evaluations; fixed theta: %d scan points + %d evaluations\n",
+              pc.tuning_phases, pc.test_episodes, coopt::to_string(pc.search.method), pc.search.starts,
+              pc.search.max_evals, setup.sweep.fixed_theta.scan_points, setup.sweep.fixed_theta.max_evals);
+  std::fflush(stdout);
+  const coopt::SweepSummary s = coopt::run_sweep(sims, setup.task, setup.sweep, pc, so);
+  std::printf("sweep: %d rows run now, %d before, %d in all; this call took %s\n", s.rows_run, s.rows_done_before,
+              static_cast<int>(s.rows.size()), hms(s.wall_s).c_str());
+  // Summary per controller: best design, median, and the best few.
+  for (coopt::SweepController c : setup.sweep.controllers) {
+    std::vector<const coopt::SweepRow*> rows;
+    for (const coopt::SweepRow& r : s.rows)
+      if (r.controller == c) rows.push_back(&r);
+    if (rows.empty()) continue;
+    std::stable_sort(rows.begin(), rows.end(),
+                     [](const coopt::SweepRow* a, const coopt::SweepRow* b) { return a->test_return > b->test_return; });
+    const coopt::SweepRow& b = *rows.front();
+    std::printf("sweep: %-11s best j%d p=[%g, %g]: %.2f +- %.2f over %d test episodes; median %.2f; worst %.2f "
+                "(%zu rows)\n",
+                coopt::to_string(c), b.point.design, b.point.p1_kPa, b.point.p2_kPa, b.test_return, b.test_std,
+                b.test_episodes, rows[rows.size() / 2]->test_return, rows.back()->test_return, rows.size());
+    std::printf("sweep: %-11s top 5:", coopt::to_string(c));
+    for (std::size_t i = 0; i < std::min<std::size_t>(5, rows.size()); ++i)
+      std::printf(" j%d %.2f", rows[i]->point.design, rows[i]->test_return);
+    std::printf("\n");
+  }
+  std::printf("sweep: wrote %s\n", (fs::path(o.out) / "sweep.csv").string().c_str());
+  return 0;
+}
+
+}  // namespace
+
+void add_sweep_command(CLI::App& root, Runner& run) {
+  auto opt = std::make_shared<SweepCliOptions>();
+  CLI::App* cmd = root.add_subcommand(
+      "sweep", "Design landscape: every design on a pressure grid with tuned PIDs and the best fixed theta");
+  cmd->add_option("--config", opt->config, "run config (TOML; [sweep], [pid])")->required();
+  cmd->add_option("-o,--out", opt->out, "output directory (default runs/sweep)");
+  cmd->add_option("--designs", opt->designs, "design index or range A-B (default: [sweep] first/last_design)");
+  cmd->add_option("--threads", opt->threads, "threads (0: all cores)")->check(CLI::Range(0, 1024));
+  cmd->add_flag("--force", opt->force, "start afresh even if the directory holds a sweep of another config");
+  cmd->callback([opt, &run] { run = [opt] { return run_sweep_command(*opt); }; });
+}
+
+}  // namespace codesign::app

@@ -1,0 +1,99 @@
+#pragma once
+// The design landscape: every design on a pressure grid, each with three tuned baselines —
+// the best fixed base angle θ0, the PID on the measured force (oracle) and the PID on the strain
+// ε (the policy's signal) — tuned on tuning phases and tested on disjoint evaluation phases.
+//
+// run_sweep() writes DIR/sweep.csv, one row per (design, pressures, controller), appended and
+// flushed as each row is finished; started again on the same DIR with the same config, it skips
+// the rows already there (a half-written last line is cut off), so a killed sweep resumes. Work
+// units (design, pressures) run in parallel, each single-threaded; a progress line is printed
+// after each unit. At the end it writes the heat-map tables DIR/heatmap_n<N>_<controller>.dat
+// (l × w, the best test return over the pressure grid).
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "codesign/evaluation.hpp"
+#include "codesign/pid_tuning.hpp"
+
+namespace codesign::coopt {
+
+// The best constant base angle found with NLopt: a coarse scan of `scan_points` angles on
+// [−0.95, 0.95]·theta_limit (odd counts include θ0 = 0), then a bounded local search (COBYLA,
+// one variable) within one scan step of the best, `max_evals` more evaluations. Each evaluation
+// is the mean return over `tuning_phases` tuning phases; the result is tested over
+// `test_episodes` evaluation phases.
+struct FixedThetaConfig {
+  int scan_points = 7;
+  int max_evals = 8;
+  void validate() const;  // scan_points >= 3, max_evals >= 1
+};
+struct FixedThetaTuning {
+  double theta0_rad = 0.0;
+  double tuning_return = 0.0;
+  int evaluations = 0;
+  DesignEvaluation test;
+};
+FixedThetaTuning tune_fixed_theta(const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task,
+                                  const EpisodeSetup& setup, const FixedThetaConfig& config, int tuning_phases,
+                                  int test_episodes, std::size_t threads = 1);
+
+enum class SweepController { FixedTheta, PidForce, PidStrain };
+const char* to_string(SweepController c);
+SweepController sweep_controller_from_name(const std::string& name);  // else std::invalid_argument
+
+// [sweep] of a config.
+struct SweepConfig {
+  std::vector<double> pressures_kPa{0.0};  // per chamber; two-chamber designs take every pair
+  std::vector<SweepController> controllers{SweepController::FixedTheta, SweepController::PidForce,
+                                           SweepController::PidStrain};
+  FixedThetaConfig fixed_theta;
+  int first_design = 0, last_design = 109;
+  void validate() const;  // std::invalid_argument naming the field
+};
+
+struct SweepPoint {
+  int design = 0;
+  double p1_kPa = 0.0, p2_kPa = 0.0;
+};
+// The (design, pressures) units in order: designs first..last, then the grid (p2 = 0 for n = 1).
+std::vector<SweepPoint> sweep_points(const SweepConfig& config);
+
+struct SweepRow {
+  SweepPoint point;
+  SweepController controller = SweepController::FixedTheta;
+  double theta0_rad = 0.0;           // fixed θ
+  PidGains gains;                    // PIDs
+  double setpoint = 0.0;             // PIDs: F_t (mN) or ε_ref
+  double tuning_return = 0.0;
+  int evaluations = 0;
+  double test_return = 0.0, test_std = 0.0, band_fraction = 0.0;
+  int test_episodes = 0;
+  double seconds = 0.0;
+};
+SweepRow sweep_one(const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task, const SweepPoint& point,
+                   SweepController controller, const SweepConfig& sweep, const PidTuningConfig& pid);
+
+struct SweepOptions {
+  std::string dir;
+  std::string config_text;     // kept as DIR/sweep.config.toml; a restart must match it
+  bool force = false;          // start afresh even if DIR holds a sweep of another config
+  std::size_t threads = 0;     // 0: all cores
+  bool progress = true;
+};
+struct SweepSummary {
+  int rows_total = 0, rows_done_before = 0, rows_run = 0;
+  double wall_s = 0.0;
+  std::vector<SweepRow> rows;  // every row of sweep.csv at the end
+};
+SweepSummary run_sweep(const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task, const SweepConfig& sweep,
+                       const PidTuningConfig& pid, const SweepOptions& options);
+
+// sweep.csv (header + rows) reading and writing, for resuming and for tests.
+std::string sweep_csv_header();
+std::string sweep_csv_line(const SweepRow& r);
+std::vector<SweepRow> read_sweep_csv(const std::string& path);  // complete lines only
+
+}  // namespace codesign::coopt

@@ -1,0 +1,137 @@
+// The sweep's bookkeeping: points of the pressure grid, sweep.csv rows read back bit for bit,
+// a half-written last line ignored, and a restarted sweep that skips finished rows and refuses
+// another config. The sweep itself runs on a shortened task (5 decisions) so the test stays fast.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "base/errors.hpp"
+#include "codesign/design_sweep.hpp"
+
+namespace codesign::coopt {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::path(::testing::TempDir()) / ("codesign_sweep_" + name);
+  fs::remove_all(d);
+  return d;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(DesignSweep, PointsCoverTheGridPerChamberCount) {
+  SweepConfig c;
+  c.pressures_kPa = {0.0, 10.0, 20.0};
+  c.first_design = 54;  // the last one-chamber design
+  c.last_design = 55;   // the first two-chamber design
+  const std::vector<SweepPoint> p = sweep_points(c);
+  ASSERT_EQ(p.size(), 3u + 9u);  // n = 1: the grid; n = 2: every pair
+  EXPECT_EQ(p[0].design, 54);
+  EXPECT_EQ(p[2].p1_kPa, 20.0);
+  EXPECT_EQ(p[2].p2_kPa, 0.0);
+  EXPECT_EQ(p[3].design, 55);
+  EXPECT_EQ(p[4].p1_kPa, 0.0);
+  EXPECT_EQ(p[4].p2_kPa, 10.0);
+  c.pressures_kPa = {};
+  EXPECT_THROW(c.validate(), std::invalid_argument);
+}
+
+TEST(DesignSweep, CsvRowsReadBackExactly) {
+  const fs::path dir = fresh_dir("csv");
+  fs::create_directories(dir);
+  SweepRow a;
+  a.point = {63, 1.0 / 3.0, 20.0};
+  a.controller = SweepController::PidStrain;
+  a.gains = {0.1, 0.07086, 1e-17};
+  a.setpoint = 4.25235e-4;
+  a.tuning_return = 44.94;
+  a.evaluations = 24;
+  a.test_return = 45.55;
+  a.test_std = 0.86;
+  a.test_episodes = 10;
+  a.band_fraction = 0.98;
+  a.seconds = 12.5;
+  SweepRow b = a;
+  b.controller = SweepController::FixedTheta;
+  b.theta0_rad = 0.020735;
+  const fs::path csv = dir / "sweep.csv";
+  // The last line lacks its newline: a row cut by a kill, which must be ignored.
+  std::ofstream(csv, std::ios::binary) << sweep_csv_header() << '\n'
+                                       << sweep_csv_line(a) << '\n'
+                                       << sweep_csv_line(b) << '\n'
+                                       << sweep_csv_line(a).substr(0, 20);
+  const std::vector<SweepRow> r = read_sweep_csv(csv.string());
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_EQ(sweep_csv_line(r[0]), sweep_csv_line(a));
+  EXPECT_EQ(sweep_csv_line(r[1]), sweep_csv_line(b));
+  EXPECT_EQ(r[0].point.p1_kPa, 1.0 / 3.0);  // %.17g: bit-identical
+  EXPECT_EQ(r[0].gains.kd, 1e-17);
+  std::ofstream(csv, std::ios::binary) << "j,n\n1,1\n";
+  EXPECT_THROW(read_sweep_csv(csv.string()), InputError);
+}
+
+TEST(DesignSweep, RestartSkipsFinishedRowsAndRefusesAnotherConfig) {
+  const fs::path dir = fresh_dir("resume");
+  fem::SceneConfig scene;
+  scene.settle_steps = 5;
+  auto sims = std::make_shared<SimulatorPool>(fem::WhiskerModelSpec{}, scene, fem::SolverConfig{});
+  TaskConfig task;
+  task.episode_steps = 25;  // 5 decisions
+  SweepConfig sweep;
+  sweep.first_design = sweep.last_design = 21;
+  sweep.controllers = {SweepController::FixedTheta, SweepController::PidForce};
+  sweep.fixed_theta = {3, 1};
+  PidTuningConfig pid;
+  pid.tuning_phases = 1;
+  pid.test_episodes = 1;
+  pid.search.starts = 1;
+  pid.search.max_evals = 2;
+  SweepOptions o;
+  o.dir = dir.string();
+  o.config_text = "# test sweep\n";
+  o.threads = 1;
+  o.progress = false;
+  const SweepSummary first = run_sweep(sims, task, sweep, pid, o);
+  EXPECT_EQ(first.rows_run, 2);
+  EXPECT_EQ(first.rows_done_before, 0);
+  ASSERT_EQ(first.rows.size(), 2u);
+  EXPECT_EQ(first.rows[0].evaluations, 3 + 1);  // the scan, then one local evaluation
+  EXPECT_EQ(first.rows[1].evaluations, 2);
+  EXPECT_TRUE(fs::exists(dir / "heatmap_n1_fixed_theta.dat"));
+  EXPECT_TRUE(fs::exists(dir / "heatmap_n1_pid_force.dat"));
+  // Kill during a write: drop the last row and leave half of it.
+  const std::string full = slurp(dir / "sweep.csv");
+  const std::size_t last = full.rfind('\n', full.size() - 2) + 1;
+  std::ofstream(dir / "sweep.csv", std::ios::binary | std::ios::trunc) << full.substr(0, last + 10);
+  const SweepSummary second = run_sweep(sims, task, sweep, pid, o);
+  EXPECT_EQ(second.rows_done_before, 1);
+  EXPECT_EQ(second.rows_run, 1);
+  // The run is deterministic, so the file is the same again except the rows' wall times.
+  const std::vector<SweepRow> again = read_sweep_csv((dir / "sweep.csv").string());
+  ASSERT_EQ(again.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    SweepRow x = again[i], y = first.rows[i];
+    x.seconds = y.seconds = 0.0;
+    EXPECT_EQ(sweep_csv_line(x), sweep_csv_line(y));
+  }
+  const SweepSummary third = run_sweep(sims, task, sweep, pid, o);
+  EXPECT_EQ(third.rows_run, 0);
+  EXPECT_EQ(third.rows_done_before, 2);
+  // Another config: refused, nothing changed.
+  const std::string before = slurp(dir / "sweep.csv");
+  o.config_text = "# another sweep\n";
+  EXPECT_THROW(run_sweep(sims, task, sweep, pid, o), InputError);
+  EXPECT_EQ(slurp(dir / "sweep.csv"), before);
+}
+
+}  // namespace
+}  // namespace codesign::coopt
