@@ -1,0 +1,114 @@
+// End-to-end checks of `codesign baseline pid`, `codesign sweep` and `codesign refine`: bad input
+// is one message naming file, key and range with exit status 2 and no earlier output touched;
+// refine on a finished (tiny) run appends [refined] to result.toml and keeps every other byte.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "run_binary.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using codesign::test::run_codesign;
+
+// 2 designs x 5 decisions per iteration, tiny networks: a finished run folder in seconds.
+constexpr const char* kTinyRun = R"([scene]
+settle_steps = 5
+[task]
+episode_steps = 25
+action_hold_steps = 5
+observation = "proprioceptive"
+[ppo]
+n_steps = 5
+batch_size = 5
+n_epochs = 1
+actor_hidden = [8]
+critic_hidden = [8]
+matmul_precision = "float32"
+[codesign]
+total_timesteps = 40
+designs_per_update = 2
+exploration_end = 10
+exploitation_start = 20
+eval_episodes = 2
+checkpoint_every = 40
+seed = 5
+)";
+
+fs::path scratch(const std::string& name) {
+  fs::path d = fs::temp_directory_path() / ("codesign_baselines_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+
+TEST(BaselinesCli, BadPidOrSweepConfigIsOneMessageAndWritesNothing) {
+  const fs::path dir = scratch("badcfg");
+  write(dir / "bad_pid.toml", "[pid]\nkd_range = [0.3, 0.1]\n");
+  auto r = run_codesign("baseline pid --config " + (dir / "bad_pid.toml").string() + " -o " + (dir / "b").string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_EQ(r.output, "codesign: error: " + (dir / "bad_pid.toml").string() +
+                          ": pid.kd_range: lower bound 0.300000 is above upper bound 0.100000\n");
+  EXPECT_FALSE(fs::exists(dir / "b"));
+  // An earlier sweep's output stays as it was.
+  fs::create_directories(dir / "s");
+  write(dir / "s" / "sweep.csv", "earlier\n");
+  write(dir / "bad_sweep.toml", "[sweep]\nfixed_theta_scan_points = 2\n");
+  r = run_codesign("sweep --config " + (dir / "bad_sweep.toml").string() + " -o " + (dir / "s").string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("sweep.fixed_theta_scan_points: value 2 is out of range; allowed [3, 1001]"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(slurp(dir / "s" / "sweep.csv"), "earlier\n");
+  r = run_codesign("baseline pid --config " + (dir / "bad_pid.toml").string() + " --design 110 -o x");
+  EXPECT_EQ(r.status, 2);
+}
+
+TEST(BaselinesCli, RefineNeedsARunFolder) {
+  const fs::path dir = scratch("norun");
+  const auto r = run_codesign("refine --run " + dir.string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_EQ(r.output, "codesign: error: " + dir.string() +
+                          ": has no config.toml; refine needs a finished co-design run folder\n");
+}
+
+TEST(BaselinesCli, RefineAppendsItsTableAndKeepsEveryOtherByte) {
+  const fs::path dir = scratch("refine");
+  write(dir / "tiny.toml", kTinyRun);
+  const fs::path run = dir / "run";
+  auto r = run_codesign("run --config " + (dir / "tiny.toml").string() + " -o " + run.string() + " --quiet");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string before = slurp(run / "result.toml");
+  const std::string policy = slurp(run / "policy.bin");
+  r = run_codesign("refine --run " + run.string() + " --phases 1 --starts 1 --max-evals 2 --threads 1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("refine: before p = ["), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("refine: after  p = ["), std::string::npos) << r.output;
+  const std::string after = slurp(run / "result.toml");
+  ASSERT_GT(after.size(), before.size());
+  EXPECT_EQ(after.substr(0, before.size()), before);
+  EXPECT_EQ(after.substr(before.size(), 10), "\n[refined]");
+  EXPECT_EQ(slurp(run / "policy.bin"), policy);
+  // Refining again replaces the table instead of adding a second one.
+  r = run_codesign("refine --run " + run.string() + " --phases 1 --starts 1 --max-evals 2 --threads 1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string again = slurp(run / "result.toml");
+  EXPECT_EQ(again, after);  // deterministic: the same search, the same table
+}
+
+}  // namespace
