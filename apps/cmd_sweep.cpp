@@ -1,11 +1,11 @@
-// `codesign sweep --config run.toml -o DIR [--designs A-B] [--threads N] [--force]`
+// `codesign sweep --config run.toml -o DIR [--designs A-B] [--threads N] [--force] [--plots DIR]`
 //
 // The design landscape (docs/baselines.md): every design of [sweep] on its pressure grid, each
 // with the best fixed θ, the force PID and the strain PID tuned by NLopt ([pid]); DIR/sweep.csv
 // one row per (design, pressures, controller), resumable: run the same command again and it
 // continues after the last finished row. Then the heat-map tables DIR/heatmap_n<N>_<c>.dat and,
-// with gnuplot installed, DIR/heatmap_<c>.png (plots/sweep_heatmap.gp), and a summary per
-// controller.
+// with gnuplot installed, DIR/heatmap_<c>.png (plots/sweep_heatmap.gp through io::run_gnuplot),
+// and a summary per controller.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -20,6 +20,7 @@
 #include "codesign/design_sweep.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
+#include "io/gnuplot.hpp"
 #include "sim_setup.hpp"
 
 namespace codesign::app {
@@ -34,7 +35,44 @@ struct SweepCliOptions {
   std::string designs;
   int threads = 0;
   bool force = false;
+  std::string plots;  // folder of sweep_heatmap.gp; empty: ./plots, then <binary>/../plots
 };
+
+// The heat-map script: --plots DIR, else ./plots, else the repository's plots/ next to build/.
+fs::path heatmap_script(const std::string& plots) {
+  const char* name = "sweep_heatmap.gp";
+  if (!plots.empty()) return fs::path(plots) / name;
+  if (fs::exists(fs::path("plots") / name)) return fs::path("plots") / name;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? fs::path("plots") / name : exe.parent_path().parent_path() / "plots" / name;
+}
+
+// One PNG per controller from the heat-map tables (a warning, not an error, if gnuplot is missing
+// or fails: the tables are the result).
+void plot_heatmaps(const fs::path& dir, const coopt::SweepConfig& sweep, const std::string& plots) {
+  const fs::path script = heatmap_script(plots);
+  for (coopt::SweepController c : sweep.controllers) {
+    const std::string name = coopt::to_string(c);
+    const fs::path f1 = dir / ("heatmap_n1_" + name + ".dat"), f2 = dir / ("heatmap_n2_" + name + ".dat");
+    if (!fs::exists(f1) || !fs::exists(f2)) continue;
+    io::GnuplotCall call;
+    call.script = script.string();
+    call.set("file_n1", f1.string());
+    call.set("file_n2", f2.string());
+    call.set("outfile", (dir / ("heatmap_" + name + ".png")).string());
+    call.set("controller", name);
+    if (!fs::exists(script)) {
+      std::printf("sweep: warning: %s not found (pass --plots DIR): no heat-map PNGs\n", script.string().c_str());
+      return;
+    }
+    const io::GnuplotOutcome r = io::run_gnuplot(call);
+    if (r.ok())
+      std::printf("sweep: wrote %s\n", (dir / ("heatmap_" + name + ".png")).string().c_str());
+    else
+      std::printf("sweep: warning: %s\n", r.message().c_str());
+  }
+}
 
 std::pair<int, int> parse_designs(const std::string& s) {
   int a = -1, b = -1;
@@ -102,6 +140,7 @@ int run_sweep_command(const SweepCliOptions& o) {
       std::printf(" j%d %.2f", rows[i]->point.design, rows[i]->test_return);
     std::printf("\n");
   }
+  plot_heatmaps(fs::path(o.out), setup.sweep, o.plots);
   std::printf("sweep: wrote %s\n", (fs::path(o.out) / "sweep.csv").string().c_str());
   return 0;
 }
@@ -117,6 +156,7 @@ void add_sweep_command(CLI::App& root, Runner& run) {
   cmd->add_option("--designs", opt->designs, "design index or range A-B (default: [sweep] first/last_design)");
   cmd->add_option("--threads", opt->threads, "threads (0: all cores)")->check(CLI::Range(0, 1024));
   cmd->add_flag("--force", opt->force, "start afresh even if the directory holds a sweep of another config");
+  cmd->add_option("--plots", opt->plots, "folder of sweep_heatmap.gp (default ./plots, then next to build/)");
   cmd->callback([opt, &run] { run = [opt] { return run_sweep_command(*opt); }; });
 }
 

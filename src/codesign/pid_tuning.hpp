@@ -45,8 +45,11 @@ PidSearch tune_pid(const PidObjective& objective, const PidBox& box, const Searc
 
 // [pid] of a config: bounds, start, budget and the phases of tuning and testing.
 struct PidTuningConfig {
-  PidBox box{{0.0, 0.2}, {0.0, 0.2}, {0.0, 0.2}, {-3.0, 3.0}};  // offset: strain signal only
-  PidGains start{0.01, 0.07, 0.01};  // first start: about the force PID tuned on j21 (docs/baselines.md)
+  // Gains in action per band unit. Turning the base by one full action (10°) moves F by about
+  // 75–150 mN, i.e. G ≈ 19–37 band units, so a loop gain K·G of order one needs K of a few
+  // hundredths; gains much above 0.1 make the tip lose contact within a few decisions.
+  PidBox box{{0.0, 0.1}, {0.0, 0.1}, {0.0, 0.1}, {-3.0, 3.0}};  // offset: strain signal only
+  PidGains start{0.01, 0.01, 0.0};  // first start: slow but stable on every design tried (j21, j51)
   double strain_scale = 1.9e-5;     // ε per band half-width (j21: 4.7e-6 per mN × 4 mN)
   int tuning_phases = 2;
   int test_episodes = 10;
