@@ -35,17 +35,16 @@ struct SweepCliOptions {
   std::string designs;
   int threads = 0;
   bool force = false;
-  std::string plots;  // folder of sweep_heatmap.gp; empty: ./plots, then <binary>/../plots
+  std::string plots;  // folder of sweep_heatmap.gp; empty: CODESIGN_PLOTS_DIR
 };
 
-// The heat-map script: --plots DIR, else ./plots, else the repository's plots/ next to build/.
+#ifndef CODESIGN_PLOTS_DIR
+#define CODESIGN_PLOTS_DIR "plots"
+#endif
+
+// The heat-map script: --plots DIR, else this source tree's plots/ (as `codesign figures`).
 fs::path heatmap_script(const std::string& plots) {
-  const char* name = "sweep_heatmap.gp";
-  if (!plots.empty()) return fs::path(plots) / name;
-  if (fs::exists(fs::path("plots") / name)) return fs::path("plots") / name;
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? fs::path("plots") / name : exe.parent_path().parent_path() / "plots" / name;
+  return fs::path(plots.empty() ? std::string(CODESIGN_PLOTS_DIR) : plots) / "sweep_heatmap.gp";
 }
 
 // One PNG per controller from the heat-map tables (a warning, not an error, if gnuplot is missing
@@ -156,7 +155,7 @@ void add_sweep_command(CLI::App& root, Runner& run) {
   cmd->add_option("--designs", opt->designs, "design index or range A-B (default: [sweep] first/last_design)");
   cmd->add_option("--threads", opt->threads, "threads (0: all cores)")->check(CLI::Range(0, 1024));
   cmd->add_flag("--force", opt->force, "start afresh even if the directory holds a sweep of another config");
-  cmd->add_option("--plots", opt->plots, "folder of sweep_heatmap.gp (default ./plots, then next to build/)");
+  cmd->add_option("--plots", opt->plots, "folder of sweep_heatmap.gp (default: " CODESIGN_PLOTS_DIR ")");
   cmd->callback([opt, &run] { run = [opt] { return run_sweep_command(*opt); }; });
 }
 
