@@ -1,4 +1,4 @@
-// `codesign sweep --config run.toml -o DIR [--designs A-B] [--threads N] [--force] [--plots DIR]`
+// `codesign sweep --config run.toml -o DIR [--designs A-B] [--threads N] [--force] [--report] [--plots DIR]`
 //
 // The design landscape (docs/baselines.md): every design of [sweep] on its pressure grid, each
 // with the best fixed θ, the force PID and the strain PID tuned by NLopt ([pid]); DIR/sweep.csv
@@ -35,6 +35,7 @@ struct SweepCliOptions {
   std::string designs;
   int threads = 0;
   bool force = false;
+  bool report = false;
   std::string plots;  // folder of sweep_heatmap.gp; empty: CODESIGN_PLOTS_DIR
 };
 
@@ -109,6 +110,7 @@ int run_sweep_command(const SweepCliOptions& o) {
                    std::to_string(setup.sweep.last_design) + "\n";
   so.force = o.force;
   so.threads = static_cast<std::size_t>(o.threads);
+  so.report_only = o.report;
   const coopt::PidTuningConfig& pc = setup.pid;
   std::printf("sweep: designs %d..%d, pressures_kPa [", setup.sweep.first_design, setup.sweep.last_design);
   for (std::size_t i = 0; i < setup.sweep.pressures_kPa.size(); ++i)
@@ -119,8 +121,8 @@ int run_sweep_command(const SweepCliOptions& o) {
               pc.search.max_evals, setup.sweep.fixed_theta.scan_points, setup.sweep.fixed_theta.max_evals);
   std::fflush(stdout);
   const coopt::SweepSummary s = coopt::run_sweep(sims, setup.task, setup.sweep, pc, so);
-  std::printf("sweep: %d rows run now, %d before, %d in all; this call took %s\n", s.rows_run, s.rows_done_before,
-              static_cast<int>(s.rows.size()), hms(s.wall_s).c_str());
+  std::printf("sweep: %d rows run now, %d before, %d of %d in all; this call took %s\n", s.rows_run,
+              s.rows_done_before, static_cast<int>(s.rows.size()), s.rows_total, hms(s.wall_s).c_str());
   // Summary per controller: best design, median, and the best few.
   for (coopt::SweepController c : setup.sweep.controllers) {
     std::vector<const coopt::SweepRow*> rows;
@@ -155,6 +157,8 @@ void add_sweep_command(CLI::App& root, Runner& run) {
   cmd->add_option("--designs", opt->designs, "design index or range A-B (default: [sweep] first/last_design)");
   cmd->add_option("--threads", opt->threads, "threads (0: all cores)")->check(CLI::Range(0, 1024));
   cmd->add_flag("--force", opt->force, "start afresh even if the directory holds a sweep of another config");
+  cmd->add_flag("--report", opt->report,
+                "run nothing: heat maps and summary from the rows of an earlier (possibly unfinished) sweep");
   cmd->add_option("--plots", opt->plots, "folder of sweep_heatmap.gp (default: " CODESIGN_PLOTS_DIR ")");
   cmd->callback([opt, &run] { run = [opt] { return run_sweep_command(*opt); }; });
 }

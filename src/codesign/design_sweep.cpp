@@ -286,18 +286,32 @@ SweepSummary run_sweep(const std::shared_ptr<SimulatorPool>& sims, const TaskCon
     std::ifstream in(cfg, std::ios::binary);
     std::string earlier((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     const bool same = in.good() || in.eof() ? earlier == options.config_text : false;
-    if (!same && !options.force)
+    if (!same && (!options.force || options.report_only))
       throw InputError(dir.string() + ": holds sweep.csv of a sweep with another config (" + cfg.string() +
-                       "); choose another -o or pass --force to start afresh");
-    if (same && !options.force) {
+                       (options.report_only ? "); report with that config"
+                                            : "); choose another -o or pass --force to start afresh"));
+    if (same && (!options.force || options.report_only)) {
       done = read_sweep_csv(csv.string());
-      // Cut a half-written last line, so appends start on a fresh line.
-      std::ifstream whole(csv, std::ios::binary);
-      std::string text((std::istreambuf_iterator<char>(whole)), std::istreambuf_iterator<char>());
-      fs::resize_file(csv, text.rfind('\n') + 1);
+      // Cut a half-written last line, so appends start on a fresh line (not when only reporting:
+      // a sweep may still be appending).
+      if (!options.report_only) {
+        std::ifstream whole(csv, std::ios::binary);
+        std::string text((std::istreambuf_iterator<char>(whole)), std::istreambuf_iterator<char>());
+        fs::resize_file(csv, text.rfind('\n') + 1);
+      }
     } else {
       fs::remove(csv);
     }
+  }
+  if (options.report_only) {
+    if (!fs::exists(csv, ec)) throw InputError(dir.string() + ": has no sweep.csv to report on");
+    SweepSummary summary;
+    summary.rows = done;
+    summary.rows_done_before = static_cast<int>(done.size());
+    summary.rows_total = static_cast<int>(sweep_points(sweep).size() * sweep.controllers.size());
+    write_heatmaps(dir, summary.rows, sweep);
+    summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    return summary;
   }
   if (!fs::exists(csv, ec)) {
     io::write_file_atomically(cfg.string(), [&](std::ostream& out) { out << options.config_text; });

@@ -82,6 +82,7 @@ struct SweepOptions {
   bool force = false;          // start afresh even if DIR holds a sweep of another config
   std::size_t threads = 0;     // 0: all cores
   bool progress = true;
+  bool report_only = false;    // run nothing: heat maps and summary from the rows already there
 };
 struct SweepSummary {
   int rows_total = 0, rows_done_before = 0, rows_run = 0;

@@ -126,6 +126,14 @@ TEST(DesignSweep, RestartSkipsFinishedRowsAndRefusesAnotherConfig) {
   const SweepSummary third = run_sweep(sims, task, sweep, pid, o);
   EXPECT_EQ(third.rows_run, 0);
   EXPECT_EQ(third.rows_done_before, 2);
+  // Report only: the same rows, nothing run, the CSV untouched.
+  SweepOptions report = o;
+  report.report_only = true;
+  const std::string csv_before = slurp(dir / "sweep.csv");
+  const SweepSummary fourth = run_sweep(sims, task, sweep, pid, report);
+  EXPECT_EQ(fourth.rows_run, 0);
+  EXPECT_EQ(fourth.rows.size(), 2u);
+  EXPECT_EQ(slurp(dir / "sweep.csv"), csv_before);
   // Another config: refused, nothing changed.
   const std::string before = slurp(dir / "sweep.csv");
   o.config_text = "# another sweep\n";
