@@ -3,7 +3,8 @@
 #
 # Set on the command line (codesign sweep does it; docs/baselines.md shows the command):
 #   file_n1, file_n2   heatmap_n1_<controller>.dat, heatmap_n2_<controller>.dat
-#                      (columns l_mm w_mm test_return design p1_kPa p2_kPa; one block per l)
+#                      (columns l_mm w_mm test_return design p1_kPa p2_kPa; one block per l;
+#                      NaN for a design the sweep has not reached: left blank)
 #   outfile            the PNG to write
 #   controller         its name for the titles, e.g. "pid_force"
 set terminal pngcairo size 1200,500 noenhanced font 'DejaVu Sans,11'
@@ -21,8 +22,8 @@ set palette defined (0 '#440154', 12 '#3b528b', 25 '#21918c', 37 '#5ec962', 50 '
 set tics nomirror
 set title 'one chamber (n = 1)'
 plot file_n1 using 1:2:3 with image notitle, \
-     file_n1 using 1:2:(sprintf('%.1f', $3)) with labels tc rgb '#ffffff' font ',8' notitle
+     file_n1 using 1:2:(valid(3) ? sprintf('%.1f', $3) : '') with labels tc rgb '#ffffff' font ',8' notitle
 set title 'two chambers (n = 2)'
 plot file_n2 using 1:2:3 with image notitle, \
-     file_n2 using 1:2:(sprintf('%.1f', $3)) with labels tc rgb '#ffffff' font ',8' notitle
+     file_n2 using 1:2:(valid(3) ? sprintf('%.1f', $3) : '') with labels tc rgb '#ffffff' font ',8' notitle
 unset multiplot

@@ -73,16 +73,21 @@ void write_heatmaps(const fs::path& dir, const std::vector<SweepRow>& rows, cons
       const std::string name = "heatmap_n" + std::to_string(n) + "_" + to_string(c) + ".dat";
       io::write_file_atomically((dir / name).string(), [&](std::ostream& out) {
         out << "# " << to_string(c) << ", n = " << n
-            << ": best test return over the pressure grid; columns l_mm w_mm test_return design p1_kPa p2_kPa\n";
+            << ": best test return over the pressure grid (NaN: not run yet); columns l_mm w_mm test_return "
+               "design p1_kPa p2_kPa\n";
+        // Every design of this chamber count, NaN where the sweep has no row yet (an unfinished
+        // sweep), so the grid stays regular.
         double last_l = -1.0;
         for (int j = 0; j < fem::kDesignCount; ++j) {
-          const auto it = best.find(j);
-          if (it == best.end()) continue;
           const fem::Design d = fem::design_from_index(j);
+          if (d.n != n) continue;
           if (last_l >= 0.0 && d.chamber_length_mm != last_l) out << '\n';
           last_l = d.chamber_length_mm;
-          out << d.chamber_length_mm << ' ' << d.wall_mm << ' ' << CsvLog::num(it->second->test_return) << ' ' << j
-              << ' ' << CsvLog::num(it->second->point.p1_kPa) << ' ' << CsvLog::num(it->second->point.p2_kPa) << '\n';
+          const auto it = best.find(j);
+          out << d.chamber_length_mm << ' ' << d.wall_mm << ' '
+              << (it == best.end() ? std::string("NaN") : CsvLog::num(it->second->test_return)) << ' ' << j << ' '
+              << (it == best.end() ? std::string("NaN") : CsvLog::num(it->second->point.p1_kPa)) << ' '
+              << (it == best.end() ? std::string("NaN") : CsvLog::num(it->second->point.p2_kPa)) << '\n';
         }
       });
     }
