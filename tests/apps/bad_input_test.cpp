@@ -261,7 +261,7 @@ std::vector<Case> cases() {
       cli("earlier_run", "--config DIR/tiny.toml -o DIR/run", {"DIR/run: already holds", "--resume", "--force"}),
       cli("resume_nothing", "--config DIR/tiny.toml -o DIR/empty_run --resume", {"DIR/empty_run: no checkpoint.bin", "start the run without --resume"}),
       cli("design_range", "mesh --design 110 -o DIR/j.msh", {"--design", "110"}),
-      cli("unknown_command", "frobnicate --config DIR/tiny.toml", {"unknown command 'frobnicate'", "allowed: run, survey, mesh, sim, train-gym, figures, check, baseline, sweep, refine, bench"}),
+      cli("unknown_command", "frobnicate --config DIR/tiny.toml", {"unknown command 'frobnicate'", "allowed: run, survey, mesh, sim, train-gym, figures, check, render, baseline, sweep, refine, bench"}),
       cli("vtk_every_negative", "sim --config DIR/tiny.toml -o DIR/sim --vtk-every -3", {"--vtk-every", "-3"}),
       cli("check_unknown_file", "check DIR/tiny.toml", {"DIR/tiny.toml: not a file codesign reads", "allowed: a gmsh .msh 4.1 mesh"}),
       // ---- meshes (codesign check)
