@@ -42,10 +42,7 @@ seed = 5
 )";
 
 fs::path scratch(const std::string& name) {
-  fs::path d = fs::temp_directory_path() / ("codesign_baselines_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return codesign::test::scratch_dir("codesign_baselines_", name);
 }
 
 std::string slurp(const fs::path& p) {

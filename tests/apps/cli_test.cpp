@@ -17,10 +17,7 @@ using codesign::test::run_codesign;
 using Result = codesign::test::RunResult;
 
 fs::path scratch(const std::string& name) {
-  fs::path d = fs::temp_directory_path() / ("codesign_cli_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return codesign::test::scratch_dir("codesign_cli_", name);
 }
 
 std::string slurp(const fs::path& p) {

@@ -47,10 +47,7 @@ seed = 5
 )";
 
 fs::path scratch(const std::string& name) {
-  fs::path d = fs::temp_directory_path() / ("codesign_figcmd_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return codesign::test::scratch_dir("codesign_figcmd_", name);
 }
 
 std::size_t lines(const std::string& s) { return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n')); }

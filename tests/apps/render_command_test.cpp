@@ -51,9 +51,7 @@ every_steps = 5
 )";
 
 fs::path scratch(const std::string& name) {
-  fs::path d = fs::temp_directory_path() / ("codesign_rendercmd_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const fs::path d = codesign::test::scratch_dir("codesign_rendercmd_", name);
   std::ofstream(d / "tiny.toml") << kTiny;
   return d;
 }

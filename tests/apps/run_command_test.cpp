@@ -49,10 +49,7 @@ seed = 11
 )";
 
 fs::path scratch(const std::string& name) {
-  fs::path d = fs::temp_directory_path() / ("codesign_runcmd_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return codesign::test::scratch_dir("codesign_runcmd_", name);
 }
 
 std::string slurp(const fs::path& p) {

@@ -11,6 +11,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "run_binary.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -22,10 +24,7 @@ int run(const std::string& args) {
 }
 
 fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("codesign_sim_test_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return codesign::test::scratch_dir("codesign_sim_test_", name);
 }
 
 TEST(SimCommand, WritesTrace) {
