@@ -15,6 +15,7 @@
 #include "codesign/episode_render.hpp"
 #include "codesign/run.hpp"
 #include "commands.hpp"
+#include "io/toml_reader.hpp"
 #include "sim_setup.hpp"
 
 namespace codesign::app {
@@ -33,14 +34,6 @@ struct RunCliOptions {
   bool no_figures = false;
 };
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open config file");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 int run_main_job(const RunCliOptions& o) {
   const SimSetup setup = read_sim_setup(o.config);
   // One rollout of ppo.n_steps decisions is one episode per environment (Algorithm 1).
@@ -56,7 +49,7 @@ int run_main_job(const RunCliOptions& o) {
   s.scene = setup.scene;
   s.solver = setup.solver;
   s.loop = {setup.task, setup.codesign, setup.ppo};
-  s.config_text = read_text(o.config);
+  s.config_text = io::TableReader::input_text(o.config);
   coopt::RunOptions ro;
   ro.dir = out;
   ro.resume = o.resume;

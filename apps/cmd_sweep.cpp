@@ -21,6 +21,7 @@
 #include "commands.hpp"
 #include "fem/design.hpp"
 #include "io/gnuplot.hpp"
+#include "io/toml_reader.hpp"
 #include "sim_setup.hpp"
 
 namespace codesign::app {
@@ -84,14 +85,6 @@ std::pair<int, int> parse_designs(const std::string& s) {
   throw InputError("--designs: '" + s + "' is not a design index or range A-B within 0..109");
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open config file");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 std::string hms(double s) {
   char buf[32];
   const auto t = static_cast<long>(s + 0.5);
@@ -106,7 +99,7 @@ int run_sweep_command(const SweepCliOptions& o) {
   coopt::SweepOptions so;
   so.dir = o.out;
   // The design range is part of what a restart must match.
-  so.config_text = read_text(o.config) + "\n# --designs " + std::to_string(setup.sweep.first_design) + "-" +
+  so.config_text = io::TableReader::input_text(o.config) + "\n# --designs " + std::to_string(setup.sweep.first_design) + "-" +
                    std::to_string(setup.sweep.last_design) + "\n";
   so.force = o.force;
   so.threads = static_cast<std::size_t>(o.threads);

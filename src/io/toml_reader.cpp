@@ -13,6 +13,7 @@ namespace codesign::io {
 struct TableReader::State {
   std::string file;
   toml::table root;
+  std::vector<std::string> bases;  // files merged in through `extends`, nearest first
 };
 
 namespace {
@@ -62,7 +63,11 @@ TableReader::TableReader(std::shared_ptr<State> state, const toml::table* table,
       path_(std::move(path)),
       read_keys_(std::make_shared<std::vector<std::string>>()) {}
 
-TableReader TableReader::from_file(const std::string& path) {
+namespace {
+
+constexpr int kMaxExtendsDepth = 8;
+
+std::string read_config_file(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw InputError(path + ": cannot read config file: it is a directory; give a TOML file");
@@ -70,23 +75,101 @@ TableReader TableReader::from_file(const std::string& path) {
   if (!in) throw InputError(path + ": cannot open config file");
   std::stringstream ss;
   ss << in.rdbuf();
-  return from_string(ss.str(), path);
+  return ss.str();
 }
+
+toml::table parse_text(std::string_view text, const std::string& label) {
+  try {
+    return toml::parse(text, label);
+  } catch (const toml::parse_error& e) {
+    throw InputError(parse_error_text(label, e));
+  }
+}
+
+// Keys of `over` replace those of `base`; tables present in both are merged key by key, so a
+// derived config states only what differs. Arrays are replaced whole.
+void merge_into(toml::table& base, const toml::table& over) {
+  for (auto&& [key, node] : over) {
+    const auto* over_table = node.as_table();
+    auto* base_table = base.get_as<toml::table>(key);
+    if (over_table != nullptr && base_table != nullptr) {
+      merge_into(*base_table, *over_table);
+    } else {
+      base.insert_or_assign(key, node);
+    }
+  }
+}
+
+// Parses `path` and, if its root has `extends = "other.toml"` (relative to path's folder), the
+// chain of files it extends, merged with the nearest file winning.
+toml::table parse_with_bases(const std::string& path, std::vector<std::string>& bases,
+                             std::vector<std::filesystem::path>& seen) {
+  toml::table root = parse_text(read_config_file(path), path);
+  const toml::node* ext = root.get("extends");
+  if (ext == nullptr) return root;
+  const auto base_name = ext->value_exact<std::string>();
+  if (!base_name || base_name->empty())
+    throw InputError(path + ": extends: expected the file name of a config to extend (a string), got " +
+                     type_name(*ext));
+  const std::filesystem::path base_path =
+      std::filesystem::path(path).parent_path() / std::filesystem::path(*base_name);
+  std::error_code ec;
+  const auto canonical = std::filesystem::weakly_canonical(base_path, ec);
+  if (std::find(seen.begin(), seen.end(), canonical) != seen.end())
+    throw InputError(path + ": extends: \"" + *base_name + "\" leads back to a file already in the chain");
+  if (static_cast<int>(seen.size()) >= kMaxExtendsDepth)
+    throw InputError(path + ": extends: more than " + std::to_string(kMaxExtendsDepth) +
+                     " files in the chain; allowed 1 to " + std::to_string(kMaxExtendsDepth));
+  seen.push_back(canonical);
+  bases.push_back(base_path.string());
+  toml::table merged = parse_with_bases(base_path.string(), bases, seen);
+  root.erase("extends");
+  merge_into(merged, root);
+  return merged;
+}
+
+}  // namespace
+
+TableReader TableReader::from_file(const std::string& path) {
+  auto state = std::make_shared<State>();
+  state->file = path;
+  std::error_code ec;
+  std::vector<std::filesystem::path> seen{std::filesystem::weakly_canonical(path, ec)};
+  state->root = parse_with_bases(path, state->bases, seen);
+  const toml::table* root = &state->root;
+  return TableReader(std::move(state), root, "");
+}
+
+std::string TableReader::input_text(const std::string& path) {
+  const std::string text = read_config_file(path);
+  TableReader reader = from_file(path);
+  if (reader.state_->bases.empty()) return text;
+  std::ostringstream os;
+  os << "# " << path;
+  for (const auto& b : reader.state_->bases) os << " extends " << b;
+  os << "; merged:\n" << reader.state_->root << "\n";
+  return os.str();
+}
+
+const std::vector<std::string>& TableReader::bases() const { return state_->bases; }
 
 TableReader TableReader::from_string(std::string_view text, std::string file_label) {
   auto state = std::make_shared<State>();
   state->file = std::move(file_label);
-  try {
-    state->root = toml::parse(text, state->file);
-  } catch (const toml::parse_error& e) {
-    throw InputError(parse_error_text(state->file, e));
-  }
+  state->root = parse_text(text, state->file);
+  if (state->root.get("extends") != nullptr)
+    throw InputError(state->file + ": extends: only a config read from a file may extend another");
   const toml::table* root = &state->root;
   return TableReader(std::move(state), root, "");
 }
 
 std::string TableReader::where(std::string_view key) const {
   std::string full = path_.empty() ? std::string(key) : path_ + "." + std::string(key);
+  // A value merged in from an extended file is reported at the file that states it.
+  if (table_ != nullptr) {
+    if (const toml::node* node = table_->get(key); node != nullptr && node->source().path)
+      return *node->source().path + ": " + full;
+  }
   return state_->file + ": " + full;
 }
 

@@ -31,7 +31,15 @@ namespace codesign::io {
 class TableReader {
  public:
   // Parses a TOML file; a missing file or a syntax error throws InputError with the position.
+  // A root key `extends = "base.toml"` (path relative to the file's folder) reads that file
+  // first and lays this one over it: tables merge key by key, other values and arrays replace.
+  // Chains are allowed (up to 8 files, no cycles). Messages name the file that states a value.
   static TableReader from_file(const std::string& path);
+  // The text to keep as a record of the input: the file itself, or, when it extends others, a
+  // comment naming the chain followed by the merged TOML.
+  static std::string input_text(const std::string& path);
+  // Files merged in through `extends`, nearest first (empty for a self-contained file).
+  const std::vector<std::string>& bases() const;
   // Parses TOML text; `file_label` stands in for the file name in messages (used by tests).
   static TableReader from_string(std::string_view text, std::string file_label);
 

@@ -2,7 +2,10 @@
 // the dotted key and the allowed range, and must never let a misspelt key pass silently.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
+#include <unistd.h>
 
 #include "io/toml_reader.hpp"
 
@@ -116,6 +119,93 @@ TEST(TomlReader, MissingFileIsReported) {
 TEST(TomlReader, NonFiniteNumbersAreRejected) {
   const std::string msg = error_of("x = nan\n", [](TableReader& r) { r.number("x", 0, -1, 1); });
   EXPECT_EQ(msg, "run.toml: x: value nan is out of range; allowed [-1, 1]");
+}
+
+// A scratch folder of its own per test (pid in the name: ctest may run tests in parallel).
+std::filesystem::path fresh_dir(const std::string& name) {
+  const auto d = std::filesystem::temp_directory_path() /
+                 ("codesign_toml_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d;
+}
+
+void write(const std::filesystem::path& p, const std::string& text) {
+  std::filesystem::create_directories(p.parent_path());
+  std::ofstream(p) << text;
+}
+
+std::string error_of_file(const std::filesystem::path& p) {
+  try {
+    TableReader r = TableReader::from_file(p.string());
+    TableReader t = r.table("task");
+    t.string("observation", "paper", {"paper", "no_feedback"});
+    t.number("kappa", 1.5, 0.0, 10.0);
+    t.finish();
+    r.finish();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(TomlReaderExtends, DerivedFileOverridesKeysAndKeepsTheRest) {
+  const auto d = fresh_dir("override");
+  write(d / "base.toml", "[task]\nobservation = \"paper\"\nkappa = 1.5\n[ppo]\nsizes = [512, 512]\n");
+  write(d / "sub" / "derived.toml",
+        "extends = \"../base.toml\"\n[task]\nobservation = \"no_feedback\"\n[ppo]\nsizes = [64]\n");
+  TableReader r = TableReader::from_file((d / "sub" / "derived.toml").string());
+  TableReader t = r.table("task");
+  EXPECT_EQ(t.string("observation", ""), "no_feedback");       // overridden
+  EXPECT_DOUBLE_EQ(t.number("kappa", 0.0, 0.0, 10.0), 1.5);     // from the base
+  TableReader ppo = r.table("ppo");
+  EXPECT_EQ(ppo.integers("sizes", {}, 1, 4096, 1, 8), std::vector<std::int64_t>{64});  // arrays replace
+  EXPECT_NO_THROW(t.finish());
+  EXPECT_NO_THROW(ppo.finish());
+  EXPECT_NO_THROW(r.finish());  // `extends` itself is not an unknown key
+  ASSERT_EQ(r.bases().size(), 1u);
+  EXPECT_NE(TableReader::input_text((d / "sub" / "derived.toml").string()).find("no_feedback"),
+            std::string::npos);
+}
+
+TEST(TomlReaderExtends, ChainsResolveNearestFirst) {
+  const auto d = fresh_dir("chain");
+  write(d / "a.toml", "[task]\nkappa = 1.0\nobservation = \"paper\"\n");
+  write(d / "b.toml", "extends = \"a.toml\"\n[task]\nkappa = 2.0\n");
+  write(d / "c.toml", "extends = \"b.toml\"\n[task]\nkappa = 3.0\n");
+  TableReader r = TableReader::from_file((d / "c.toml").string());
+  EXPECT_DOUBLE_EQ(r.table("task").number("kappa", 0.0, 0.0, 10.0), 3.0);
+  EXPECT_EQ(r.bases().size(), 2u);
+  TableReader rb = TableReader::from_file((d / "b.toml").string());
+  EXPECT_DOUBLE_EQ(rb.table("task").number("kappa", 0.0, 0.0, 10.0), 2.0);
+}
+
+TEST(TomlReaderExtends, BadValueIsReportedAtTheFileThatStatesIt) {
+  const auto d = fresh_dir("blame");
+  write(d / "base.toml", "[task]\nkappa = 99.0\n");
+  write(d / "derived.toml", "extends = \"base.toml\"\n[task]\nobservation = \"no_feedback\"\n");
+  EXPECT_EQ(error_of_file(d / "derived.toml"),
+            (d / "base.toml").string() + ": task.kappa: value 99 is out of range; allowed [0, 10]");
+  write(d / "derived.toml", "extends = \"base.toml\"\n[task]\nkappa = 1.0\nobservaton = \"x\"\n");
+  const std::string typo = error_of_file(d / "derived.toml");
+  EXPECT_EQ(typo.rfind((d / "derived.toml").string() + ": task.observaton: unknown key", 0), 0u) << typo;
+}
+
+TEST(TomlReaderExtends, CyclesMissingBasesAndWrongTypesAreClearErrors) {
+  const auto d = fresh_dir("bad");
+  write(d / "x.toml", "extends = \"y.toml\"\n");
+  write(d / "y.toml", "extends = \"x.toml\"\n");
+  EXPECT_NE(error_of_file(d / "x.toml").find("leads back to a file already in the chain"), std::string::npos);
+  write(d / "self.toml", "extends = \"self.toml\"\n");
+  EXPECT_NE(error_of_file(d / "self.toml").find("leads back"), std::string::npos);
+  write(d / "m.toml", "extends = \"missing.toml\"\n");
+  EXPECT_EQ(error_of_file(d / "m.toml"), (d / "missing.toml").string() + ": cannot open config file");
+  write(d / "n.toml", "extends = 3\n");
+  EXPECT_EQ(error_of_file(d / "n.toml"),
+            (d / "n.toml").string() +
+                ": extends: expected the file name of a config to extend (a string), got an integer");
+  EXPECT_NE(error_of("extends = \"a.toml\"\n", [](TableReader&) {}).find("only a config read from a file"),
+            std::string::npos);
 }
 
 }  // namespace
