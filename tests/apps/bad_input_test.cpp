@@ -17,6 +17,7 @@
 
 #include "rl/policy_file.hpp"
 #include "run_binary.hpp"
+#include "tiny_run.hpp"
 
 namespace {
 
@@ -24,28 +25,22 @@ namespace fs = std::filesystem;
 using codesign::test::run_codesign;
 
 // A complete run in a few seconds: 2 designs x 2 decisions per iteration, 4 iterations.
-constexpr const char* kTinyRun = R"([scene]
-settle_steps = 5
-[task]
-episode_steps = 10
-action_hold_steps = 5
-observation = "proprioceptive"
-[ppo]
-n_steps = 2
-batch_size = 4
-n_epochs = 1
-actor_hidden = [4]
-critic_hidden = [4]
-matmul_precision = "float32"
-[codesign]
-total_timesteps = 16
-designs_per_update = 2
-exploration_end = 4
-exploitation_start = 8
-eval_episodes = 1
-checkpoint_every = 4
-seed = 3
-)";
+const std::string kTinyRun = [] {
+  codesign::test::TinyRun r;
+  r.episode_steps = 10;
+  r.n_steps = 2;
+  r.batch_size = 4;
+  r.n_epochs = 1;
+  r.hidden = "[4]";
+  r.total_timesteps = 16;
+  r.designs_per_update = 2;
+  r.exploration_end = 4;
+  r.exploitation_start = 8;
+  r.eval_episodes = 1;
+  r.checkpoint_every = 4;
+  r.seed = 3;
+  return r.toml();
+}();
 
 // Two tetrahedra sharing the face (1, 2, 3), one on each side; base, tip and chamber_1 tagged.
 constexpr const char* kMesh = R"($MeshFormat

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "run_binary.hpp"
+#include "tiny_run.hpp"
 
 namespace {
 
@@ -18,28 +19,19 @@ namespace fs = std::filesystem;
 using codesign::test::run_codesign;
 
 // 2 designs x 5 decisions per iteration, tiny networks: a finished run folder in seconds.
-constexpr const char* kTinyRun = R"([scene]
-settle_steps = 5
-[task]
-episode_steps = 25
-action_hold_steps = 5
-observation = "proprioceptive"
-[ppo]
-n_steps = 5
-batch_size = 5
-n_epochs = 1
-actor_hidden = [8]
-critic_hidden = [8]
-matmul_precision = "float32"
-[codesign]
-total_timesteps = 40
-designs_per_update = 2
-exploration_end = 10
-exploitation_start = 20
-eval_episodes = 2
-checkpoint_every = 40
-seed = 5
-)";
+const std::string kTinyRun = [] {
+  codesign::test::TinyRun r;
+  r.batch_size = 5;
+  r.n_epochs = 1;
+  r.hidden = "[8]";
+  r.total_timesteps = 40;
+  r.designs_per_update = 2;
+  r.exploration_end = 10;
+  r.exploitation_start = 20;
+  r.eval_episodes = 2;
+  r.seed = 5;
+  return r.toml();
+}();
 
 fs::path scratch(const std::string& name) {
   return codesign::test::scratch_dir("codesign_baselines_", name);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "run_binary.hpp"
+#include "tiny_run.hpp"
 
 namespace {
 
@@ -18,32 +19,22 @@ namespace fs = std::filesystem;
 using codesign::test::run_codesign;
 
 // 6 iterations of 4 environments x 2 decisions; faults before the first decision.
-constexpr const char* kRun = R"([scene]
-settle_steps = 5
-[task]
-episode_steps = 10
-action_hold_steps = 5
-observation = "proprioceptive"
-[faults]
-nan_pressure_every = 3
-inverted_element_every = 5
-at_decision = 0
-[ppo]
-n_steps = 2
-batch_size = 4
-n_epochs = 1
-actor_hidden = [4]
-critic_hidden = [4]
-matmul_precision = "float32"
-[codesign]
-total_timesteps = 48
-designs_per_update = 4
-exploration_end = 16
-exploitation_start = 32
-eval_episodes = 2
-checkpoint_every = 8
-seed = 5
-)";
+const std::string kRun = [] {
+  codesign::test::TinyRun r;
+  r.episode_steps = 10;
+  r.n_steps = 2;
+  r.batch_size = 4;
+  r.n_epochs = 1;
+  r.hidden = "[4]";
+  r.total_timesteps = 48;
+  r.exploration_end = 16;
+  r.exploitation_start = 32;
+  r.eval_episodes = 2;
+  r.checkpoint_every = 8;
+  r.seed = 5;
+  r.tables = "[faults]\nnan_pressure_every = 3\ninverted_element_every = 5\nat_decision = 0\n";
+  return r.toml();
+}();
 
 std::vector<std::string> cells(const std::string& line) {
   std::vector<std::string> c;

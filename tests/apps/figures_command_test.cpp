@@ -16,6 +16,7 @@
 
 #include "io/gnuplot.hpp"
 #include "run_binary.hpp"
+#include "tiny_run.hpp"
 
 namespace {
 
@@ -23,28 +24,13 @@ namespace fs = std::filesystem;
 using codesign::test::run_codesign;
 
 // A run small enough for a test (as in run_command_test.cpp): all three phases, 3 evaluation episodes.
-constexpr const char* kTinyRun = R"([scene]
-settle_steps = 5
-[task]
-episode_steps = 25
-action_hold_steps = 5
-[ppo]
-n_steps = 5
-batch_size = 8
-n_epochs = 2
-actor_hidden = [16, 16]
-critic_hidden = [16, 16]
-matmul_precision = "float32"
-[codesign]
-total_timesteps = 240
-designs_per_update = 4
-exploration_end = 80
-exploitation_start = 160
-beta_end = 2.0
-eval_episodes = 3
-checkpoint_every = 40
-seed = 5
-)";
+const std::string kTinyRun = [] {
+  codesign::test::TinyRun r;
+  r.observation = "";
+  r.beta_end = "2.0";
+  r.seed = 5;
+  return r.toml();
+}();
 
 fs::path scratch(const std::string& name) {
   return codesign::test::scratch_dir("codesign_figcmd_", name);

@@ -12,43 +12,25 @@
 
 #include "io/png_file.hpp"
 #include "run_binary.hpp"
+#include "tiny_run.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using codesign::test::run_codesign;
 
-constexpr const char* kTiny = R"([scene]
-settle_steps = 5
-[task]
-episode_steps = 25
-action_hold_steps = 5
-observation = "proprioceptive"
-[ppo]
-n_steps = 5
-batch_size = 8
-n_epochs = 2
-actor_hidden = [16, 16]
-critic_hidden = [16, 16]
-matmul_precision = "float32"
-[codesign]
-total_timesteps = 80
-designs_per_update = 4
-exploration_end = 20
-exploitation_start = 40
-eval_episodes = 2
-checkpoint_every = 40
-seed = 3
-[sim]
-design = 21
-theta_deg = [0.0, -2.0]
-theta_hold_steps = 5
-steps = 10
-[render]
-width = 256
-height = 144
-every_steps = 5
-)";
+const std::string kTiny = [] {
+  codesign::test::TinyRun r;
+  r.total_timesteps = 80;
+  r.exploration_end = 20;
+  r.exploitation_start = 40;
+  r.eval_episodes = 2;
+  r.seed = 3;
+  r.tables =
+      "[sim]\ndesign = 21\ntheta_deg = [0.0, -2.0]\ntheta_hold_steps = 5\nsteps = 10\n"
+      "[render]\nwidth = 256\nheight = 144\nevery_steps = 5\n";
+  return r.toml();
+}();
 
 fs::path scratch(const std::string& name) {
   const fs::path d = codesign::test::scratch_dir("codesign_rendercmd_", name);

@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "run_binary.hpp"
+#include "tiny_run.hpp"
 
 namespace {
 
@@ -24,29 +25,11 @@ using codesign::test::run_codesign;
 
 // A run small enough for a test: 4 designs x 5 decisions per iteration, small networks, all
 // three phases of Algorithm 2, a checkpoint every 2 iterations.
-constexpr const char* kTinyRun = R"([scene]
-settle_steps = 5
-[task]
-episode_steps = 25
-action_hold_steps = 5
-observation = "proprioceptive"
-[ppo]
-n_steps = 5
-batch_size = 8
-n_epochs = 2
-actor_hidden = [16, 16]
-critic_hidden = [16, 16]
-matmul_precision = "float32"
-[codesign]
-total_timesteps = 240
-designs_per_update = 4
-exploration_end = 80
-exploitation_start = 160
-beta_end = 2.0
-eval_episodes = 3
-checkpoint_every = 40
-seed = 11
-)";
+const std::string kTinyRun = [] {
+  codesign::test::TinyRun r;
+  r.beta_end = "2.0";
+  return r.toml();
+}();
 
 fs::path scratch(const std::string& name) {
   return codesign::test::scratch_dir("codesign_runcmd_", name);
