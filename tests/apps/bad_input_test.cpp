@@ -26,12 +26,7 @@ using codesign::test::run_codesign;
 
 // A complete run in a few seconds: 2 designs x 2 decisions per iteration, 4 iterations.
 const std::string kTinyRun = [] {
-  codesign::test::TinyRun r;
-  r.episode_steps = 10;
-  r.n_steps = 2;
-  r.batch_size = 4;
-  r.n_epochs = 1;
-  r.hidden = "[4]";
+  codesign::test::TinyRun r = codesign::test::TinyRun::minimal();
   r.total_timesteps = 16;
   r.designs_per_update = 2;
   r.exploration_end = 4;

@@ -20,12 +20,7 @@ using codesign::test::run_codesign;
 
 // 6 iterations of 4 environments x 2 decisions; faults before the first decision.
 const std::string kRun = [] {
-  codesign::test::TinyRun r;
-  r.episode_steps = 10;
-  r.n_steps = 2;
-  r.batch_size = 4;
-  r.n_epochs = 1;
-  r.hidden = "[4]";
+  codesign::test::TinyRun r = codesign::test::TinyRun::minimal();
   r.total_timesteps = 48;
   r.exploration_end = 16;
   r.exploitation_start = 32;

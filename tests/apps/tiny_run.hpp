@@ -26,6 +26,17 @@ struct TinyRun {
   std::string task_extra;  // more [task] keys, one per line
   std::string tables;      // whole tables appended at the end ([faults], [sim], [render], ...)
 
+  // Two decisions per episode and 4-unit networks: for tests that only need a run to exist.
+  static TinyRun minimal() {
+    TinyRun r;
+    r.episode_steps = 10;
+    r.n_steps = 2;
+    r.batch_size = 4;
+    r.n_epochs = 1;
+    r.hidden = "[4]";
+    return r;
+  }
+
   std::string toml() const {
     std::string t = "[scene]\nsettle_steps = 5\n[task]\nepisode_steps = " + std::to_string(episode_steps) +
                     "\naction_hold_steps = 5\n";
