@@ -1,6 +1,7 @@
 #include "codesign/run.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -111,7 +112,35 @@ struct Logs {
   std::unique_ptr<CsvLog> episodes, ppo, distribution, q, sampled;
 };
 
-void log_iteration(Logs& logs, const IterationReport& rep, const DesignDistribution& dist, double steps_per_s) {
+// What the CSV logs and the telemetry both say of the distribution after an iteration.
+struct DistributionSummary {
+  Phase phase = Phase::Exploration;
+  double entropy = 0.0;
+  Eigen::VectorXd q;          // q_disc over the 110 designs
+  std::array<int, 3> top{};   // the three most probable designs, most probable first
+  int best = 0;               // leading design and its score, mean and sigma of p in kPa
+  double best_score = 0.0;
+  Eigen::Vector2d mu = Eigen::Vector2d::Zero(), sigma = Eigen::Vector2d::Zero();
+};
+
+DistributionSummary summarize(const DesignDistribution& dist, std::int64_t t) {
+  DistributionSummary s;
+  s.phase = dist.phase(t);
+  s.entropy = dist.entropy(t);
+  s.q = dist.probabilities(t);
+  std::vector<int> order(static_cast<std::size_t>(s.q.size()));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return s.q[a] > s.q[b]; });
+  for (std::size_t i = 0; i < s.top.size() && i < order.size(); ++i) s.top[i] = order[i];
+  s.best = dist.leading_design();
+  s.best_score = dist.state().score[s.best];
+  s.mu = dist.mean_pressures_kPa(s.best);
+  s.sigma = dist.sigma_pressures_kPa(s.best);
+  return s;
+}
+
+void log_iteration(Logs& logs, const IterationReport& rep, const DesignDistribution& dist,
+                   const DistributionSummary& sum, double steps_per_s) {
   for (const EpisodeRecord& e : rep.episodes) {
     const fem::Design d = fem::design_from_index(e.setup.design);
     logs.episodes->row({num(rep.t), num(rep.k), num(e.setup.design), num(d.n), num(d.chamber_length_mm),
@@ -123,16 +152,11 @@ void log_iteration(Logs& logs, const IterationReport& rep, const DesignDistribut
                  num(p.approx_kl), num(p.clip_fraction), num(p.explained_variance), num(rep.learning_rate),
                  num(p.ent_coef), num(p.epochs_done), num(p.early_stopped ? 1 : 0), num(p.grad_norm),
                  num(rep.collect_s), num(rep.update_s), num(rep.policy_s), num(steps_per_s)});
-  const Eigen::VectorXd q = dist.probabilities(rep.t);
-  std::vector<int> order(static_cast<std::size_t>(q.size()));
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return q[a] > q[b]; });
-  const int best = dist.leading_design();
-  const Eigen::Vector2d mu = dist.mean_pressures_kPa(best), sg = dist.sigma_pressures_kPa(best);
-  logs.distribution->row({num(rep.k), num(rep.t), to_string(dist.phase(rep.t)), num(rep.beta), num(dist.entropy(rep.t)),
-                          num(order[0]), num(q[order[0]]), num(order[1]), num(q[order[1]]), num(order[2]),
-                          num(q[order[2]]), num(best), num(dist.state().score[best]), num(mu[0]), num(mu[1]),
-                          num(sg[0]), num(sg[1])});
+  const Eigen::VectorXd& q = sum.q;
+  logs.distribution->row({num(rep.k), num(rep.t), to_string(sum.phase), num(rep.beta), num(sum.entropy),
+                          num(sum.top[0]), num(q[sum.top[0]]), num(sum.top[1]), num(q[sum.top[1]]),
+                          num(sum.top[2]), num(q[sum.top[2]]), num(sum.best), num(sum.best_score),
+                          num(sum.mu[0]), num(sum.mu[1]), num(sum.sigma[0]), num(sum.sigma[1])});
   std::vector<std::string> row{num(rep.k), num(rep.t)};
   for (Eigen::Index j = 0; j < q.size(); ++j) row.push_back(num(q[j]));
   logs.q->row(row);
@@ -168,7 +192,7 @@ struct PublishMeter {
 };
 
 // The iteration's rows as LCM messages (the same numbers as the CSV logs).
-void publish_iteration(io::Telemetry& tel, const IterationReport& rep, const DesignDistribution& dist,
+void publish_iteration(io::Telemetry& tel, const IterationReport& rep, const DistributionSummary& sum,
                        double steps_per_s) {
   if (!tel.enabled()) return;
   for (const EpisodeRecord& e : rep.episodes) {
@@ -215,19 +239,16 @@ void publish_iteration(io::Telemetry& tel, const IterationReport& rep, const Des
   codesign_lcm::distribution_t q{};
   q.iteration = rep.k;
   q.timestep = rep.t;
-  q.phase = to_string(dist.phase(rep.t));
+  q.phase = to_string(sum.phase);
   q.beta = rep.beta;
-  q.entropy = dist.entropy(rep.t);
-  const Eigen::VectorXd prob = dist.probabilities(rep.t);
-  for (Eigen::Index j = 0; j < prob.size() && j < 110; ++j) q.probabilities[j] = prob[j];
-  const int best = dist.leading_design();
-  const Eigen::Vector2d mu = dist.mean_pressures_kPa(best), sg = dist.sigma_pressures_kPa(best);
-  q.best_design = best;
-  q.best_score = dist.state().score[best];
-  q.best_mu_kPa[0] = mu[0];
-  q.best_mu_kPa[1] = mu[1];
-  q.best_sigma_kPa[0] = sg[0];
-  q.best_sigma_kPa[1] = sg[1];
+  q.entropy = sum.entropy;
+  for (Eigen::Index j = 0; j < sum.q.size() && j < 110; ++j) q.probabilities[j] = sum.q[j];
+  q.best_design = sum.best;
+  q.best_score = sum.best_score;
+  q.best_mu_kPa[0] = sum.mu[0];
+  q.best_mu_kPa[1] = sum.mu[1];
+  q.best_sigma_kPa[0] = sum.sigma[0];
+  q.best_sigma_kPa[1] = sum.sigma[1];
   tel.publish(q);
 }
 
@@ -387,11 +408,12 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     const IterationReport rep = loop.iterate();
     const double el = elapsed();
     const double rate = static_cast<double>(rep.t - t0) / std::max(el, 1e-9);
-    log_iteration(logs, rep, loop.distribution(), rate);
+    const DistributionSummary summary = summarize(loop.distribution(), rep.t);
+    log_iteration(logs, rep, loop.distribution(), summary, rate);
     for (const EpisodeRecord& e : rep.episodes) numerical += is_numerical_failure(e.reason) ? 1 : 0;
     if (telemetry->enabled()) {
       const PublishMeter::Scope timed(meter, static_cast<std::int64_t>(rep.episodes.size()) + 2);
-      publish_iteration(*telemetry, rep, loop.distribution(), rate);
+      publish_iteration(*telemetry, rep, summary, rate);
     }
     if (rep.t - last_ckpt >= c.checkpoint_every || loop.finished()) {
       checkpoint();
