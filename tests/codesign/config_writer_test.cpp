@@ -12,6 +12,7 @@
 #include "io/config_writer.hpp"
 #include "io/fem_config.hpp"
 #include "io/render_config.hpp"
+#include "io/toml_reader.hpp"
 #include "io/gym_config.hpp"
 
 namespace codesign::coopt {
@@ -220,6 +221,38 @@ TEST(ResolvedConfig, ShippedConfigsRoundTrip) {
     ASSERT_FALSE(text.empty());
     check_round_trip(text);
   }
+}
+
+// The paper's variants extend paper.toml and differ from it in exactly the keys they state; their
+// merged text (what config.input.toml records) reads back to the same run.
+TEST(ResolvedConfig, PaperVariantsDifferOnlyWhereTheySay) {
+  const std::string dir = std::string(CODESIGN_SOURCE_DIR) + "/configs/";
+  const RunTables paper = read_run(slurp(dir + "paper.toml"));
+  const auto variant = [&](const char* name) {
+    SCOPED_TRACE(name);
+    const std::string merged = io::TableReader::input_text(dir + name);
+    EXPECT_EQ(merged.rfind("# " + dir + name + " extends ", 0), 0u) << merged;
+    check_round_trip(merged);
+    return read_run(merged);
+  };
+  RunTables nf = variant("paper_no_feedback.toml");
+  EXPECT_EQ(nf.loop.task.observation, ObservationSet::NoFeedback);
+  nf.loop.task.observation = paper.loop.task.observation;
+  EXPECT_EQ(resolved(nf), resolved(paper));
+
+  RunTables pr = variant("paper_proprioceptive.toml");
+  EXPECT_EQ(pr.loop.task.observation, ObservationSet::Proprioceptive);
+  pr.loop.task.observation = paper.loop.task.observation;
+  EXPECT_EQ(resolved(pr), resolved(paper));
+
+  RunTables sd = variant("paper_single_design.toml");
+  EXPECT_EQ(sd.loop.codesign.baseline, Baseline::SingleDesign);
+  EXPECT_EQ(sd.loop.codesign.single_design_index, 41);
+  sd.loop.codesign.baseline = paper.loop.codesign.baseline;
+  sd.loop.codesign.single_design_index = paper.loop.codesign.single_design_index;
+  sd.loop.codesign.single_design_p1_kPa = paper.loop.codesign.single_design_p1_kPa;
+  sd.loop.codesign.single_design_p2_kPa = paper.loop.codesign.single_design_p2_kPa;
+  EXPECT_EQ(resolved(sd), resolved(paper));
 }
 
 }  // namespace codesign::coopt
