@@ -163,7 +163,7 @@ IterationReport OuterLoop::iterate() {
 
   const auto t_update = std::chrono::steady_clock::now();
   rep.ppo = rl::ppo_update(model_, optimizer_, buffer_, config_.ppo, t_, update_rng_);
-  rep.learning_rate = config_.ppo.learning_rate;
+  rep.learning_rate = rl::learning_rate_at(config_.ppo, t_);
   rep.update_s = seconds_since(t_update);
 
   const auto t_dist = std::chrono::steady_clock::now();

@@ -157,6 +157,11 @@ void write_ppo_table(std::ostream& out, const rl::PpoConfig& c) {
     t.integer("ent_decay_start", *c.ent_decay_start);
     t.integer("ent_decay_end", *c.ent_decay_end);
   }
+  if (c.lr_decay_start && c.lr_decay_end) {
+    t.integer("lr_decay_start", *c.lr_decay_start);
+    t.integer("lr_decay_end", *c.lr_decay_end);
+    t.number("learning_rate_final", c.learning_rate_final);
+  }
   t.number("vf_coef", c.vf_coef);
   t.number("max_grad_norm", c.max_grad_norm);
   if (c.target_kl) t.number("target_kl", *c.target_kl);

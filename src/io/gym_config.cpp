@@ -59,6 +59,25 @@ rl::PpoConfig read_ppo_config(TableReader& t, const rl::PpoConfig& d) {
     t.integer("ent_decay_start", 0, ppo_range::ent_decay_timesteps);
     t.integer("ent_decay_end", 0, ppo_range::ent_decay_timesteps);
   }
+  c.lr_decay_start = d.lr_decay_start;
+  c.lr_decay_end = d.lr_decay_end;
+  c.learning_rate_final = d.learning_rate_final;
+  if (t.has("lr_decay_start") || t.has("lr_decay_end")) {
+    if (!t.has("lr_decay_start") || !t.has("lr_decay_end"))
+      t.fail(t.has("lr_decay_start") ? "lr_decay_end" : "lr_decay_start",
+             "missing; lr_decay_start and lr_decay_end must be given together");
+    c.lr_decay_start = t.integer("lr_decay_start", 0, ppo_range::lr_decay_timesteps);
+    c.lr_decay_end = t.integer("lr_decay_end", 0, ppo_range::lr_decay_timesteps);
+    if (*c.lr_decay_end <= *c.lr_decay_start)
+      t.fail("lr_decay_end", "must be greater than lr_decay_start (" + std::to_string(*c.lr_decay_start) + ")");
+    c.learning_rate_final = t.number("learning_rate_final", d.learning_rate_final, ppo_range::learning_rate_final);
+  } else {
+    if (t.has("learning_rate_final"))
+      t.fail("learning_rate_final", "applies only with lr_decay_start and lr_decay_end; give both or drop it");
+    t.integer("lr_decay_start", 0, ppo_range::lr_decay_timesteps);
+    t.integer("lr_decay_end", 0, ppo_range::lr_decay_timesteps);
+    t.number("learning_rate_final", 0.0, ppo_range::learning_rate_final);
+  }
   c.vf_coef = t.number("vf_coef", d.vf_coef, ppo_range::vf_coef);
   c.max_grad_norm = t.number("max_grad_norm", d.max_grad_norm, ppo_range::max_grad_norm);
   c.target_kl = d.target_kl;

@@ -40,6 +40,15 @@ double entropy_coef_at(const PpoConfig& config, std::int64_t num_timesteps) {
   return config.ent_coef * static_cast<double>(t1 - num_timesteps) / static_cast<double>(t1 - t0);
 }
 
+double learning_rate_at(const PpoConfig& config, std::int64_t num_timesteps) {
+  if (!config.lr_decay_start || !config.lr_decay_end) return config.learning_rate;
+  const auto t0 = *config.lr_decay_start, t1 = *config.lr_decay_end;
+  if (num_timesteps <= t0) return config.learning_rate;
+  if (num_timesteps >= t1) return config.learning_rate_final;
+  const double f = static_cast<double>(num_timesteps - t0) / static_cast<double>(t1 - t0);
+  return config.learning_rate + f * (config.learning_rate_final - config.learning_rate);
+}
+
 namespace {
 
 std::string range_text(double lo, double hi) {
@@ -73,6 +82,14 @@ void validate(const PpoConfig& c) {
     check("ent_decay_end", *c.ent_decay_end, ppo_range::ent_decay_timesteps);
     if (!(*c.ent_decay_end > *c.ent_decay_start)) fail("need ent_decay_start < ent_decay_end");
   }
+  if (c.lr_decay_start.has_value() != c.lr_decay_end.has_value())
+    fail("lr_decay_start and lr_decay_end must be given together");
+  if (c.lr_decay_start) {
+    check("lr_decay_start", *c.lr_decay_start, ppo_range::lr_decay_timesteps);
+    check("lr_decay_end", *c.lr_decay_end, ppo_range::lr_decay_timesteps);
+    if (!(*c.lr_decay_end > *c.lr_decay_start)) fail("need lr_decay_start < lr_decay_end");
+  }
+  check("learning_rate_final", c.learning_rate_final, ppo_range::learning_rate_final);
   check("vf_coef", c.vf_coef, ppo_range::vf_coef);
   check("max_grad_norm", c.max_grad_norm, ppo_range::max_grad_norm);
   if (c.target_kl) check("target_kl", *c.target_kl, ppo_range::target_kl);
@@ -183,6 +200,7 @@ PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& bu
   const Eigen::Index n = buffer.size();
   PpoStats stats;
   stats.ent_coef = entropy_coef_at(config, num_timesteps);
+  const double lr = learning_rate_at(config, num_timesteps);
   stats.explained_variance = explained_variance(buffer.values(), buffer.returns());
   const PpoLossCoefficients coefs{config.clip_range, stats.ent_coef, config.vf_coef,
                                   config.normalize_advantage};
@@ -242,12 +260,12 @@ PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& bu
       // clip_grad_norm_ scales by clip_coef when it is < 1; Adam applies the factor as it reads
       // each gradient (one pass over memory instead of two).
       if (defer_optimizer_step) {
-        optimizer.begin_step(blocks, config.learning_rate, std::min(clip_coef, 1.0));
+        optimizer.begin_step(blocks, lr, std::min(clip_coef, 1.0));
         ws.actor_pending = [&](Eigen::Index b, Eigen::Index e) { optimizer.apply(blocks, 0, b, e); };
         ws.critic_pending = [&](Eigen::Index b, Eigen::Index e) { optimizer.apply(blocks, 1, b, e); };
         ws.log_std_pending = [&] { optimizer.apply(blocks, 2, 0, blocks[2].size); };
       } else {
-        optimizer.step(blocks, config.learning_rate, std::min(clip_coef, 1.0));
+        optimizer.step(blocks, lr, std::min(clip_coef, 1.0));
       }
       ++stats.minibatches_applied;
     }

@@ -45,6 +45,12 @@ struct PpoConfig {
   // ent_decay_end, 0 afterwards. Disabled (constant ent_coef) unless both are set.
   std::optional<std::int64_t> ent_decay_start;
   std::optional<std::int64_t> ent_decay_end;
+  // Linear learning-rate decay (ours; SB3 takes a schedule function): learning_rate until
+  // lr_decay_start timesteps, then linearly to learning_rate_final at lr_decay_end, and
+  // learning_rate_final afterwards. Disabled (constant learning_rate) unless both are set.
+  std::optional<std::int64_t> lr_decay_start;
+  std::optional<std::int64_t> lr_decay_end;
+  double learning_rate_final = 0.0;
   double vf_coef = 0.5;
   double max_grad_norm = 0.5;
   std::optional<double> target_kl;  // None: no early stop
@@ -71,6 +77,8 @@ inline constexpr Range<double> gae_lambda{0.0, 1.0};
 inline constexpr Range<double> clip_range{1e-6, 10.0};
 inline constexpr Range<double> ent_coef{0.0, 10.0};
 inline constexpr Range<std::int64_t> ent_decay_timesteps{0, 1'000'000'000'000};  // 1e12
+inline constexpr Range<std::int64_t> lr_decay_timesteps{0, 1'000'000'000'000};
+inline constexpr Range<double> learning_rate_final{0.0, 1.0};
 inline constexpr Range<double> vf_coef{0.0, 1000.0};
 inline constexpr Range<double> max_grad_norm{1e-9, 1e9};
 inline constexpr Range<double> target_kl{1e-9, 100.0};
@@ -87,6 +95,8 @@ PpoConfig paper_ppo_config();
 
 // Entropy coefficient at a given number of collected timesteps.
 double entropy_coef_at(const PpoConfig& config, std::int64_t num_timesteps);
+// The learning rate of the update after num_timesteps (the lr_decay schedule above).
+double learning_rate_at(const PpoConfig& config, std::int64_t num_timesteps);
 
 // Throws std::invalid_argument naming the field if a value is outside its ppo_range.
 void validate(const PpoConfig& config);

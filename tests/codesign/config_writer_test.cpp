@@ -176,6 +176,9 @@ seed = 4611686018427387904
 target_kl = 0.03
 ent_decay_start = 1000
 ent_decay_end = 2000
+lr_decay_start = 1500
+lr_decay_end = 2500
+learning_rate_final = 0.00003
 matmul_precision = "float32"
 )";
 
@@ -208,6 +211,7 @@ TEST(ResolvedConfig, NonDefaultRoundTrip) {
   EXPECT_NE(r.find("\nplate_phase_deg = -12.5\n"), std::string::npos) << r;  // [scene]
   EXPECT_NE(r.find("\nplate_phase_deg = 45.0\n"), std::string::npos) << r;   // [codesign]
   EXPECT_NE(r.find("\nseed = 4611686018427387904\n"), std::string::npos) << r;
+  EXPECT_NE(r.find("\nlr_decay_start = 1500\nlr_decay_end = 2500\nlearning_rate_final = 3e-05\n"), std::string::npos) << r;
 }
 
 TEST(ResolvedConfig, NoFeedbackObservation) {

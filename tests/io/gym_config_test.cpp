@@ -122,6 +122,15 @@ TEST(GymConfig, CrossFieldRules) {
   EXPECT_NE(m.find("ppo.ent_decay_end"), std::string::npos) << m;
   m = error_of("[ppo]\nent_decay_start = 100\nent_decay_end = 100\n");
   EXPECT_NE(m.find("ppo.ent_decay_end"), std::string::npos) << m;
+
+  m = error_of("[ppo]\nlr_decay_end = 100\n");
+  EXPECT_NE(m.find("ppo.lr_decay_start: missing"), std::string::npos) << m;
+  m = error_of("[ppo]\nlr_decay_start = 100\nlr_decay_end = 50\n");
+  EXPECT_NE(m.find("ppo.lr_decay_end: must be greater than lr_decay_start (100)"), std::string::npos) << m;
+  m = error_of("[ppo]\nlearning_rate_final = 0.0001\n");
+  EXPECT_NE(m.find("ppo.learning_rate_final: applies only with lr_decay_start and lr_decay_end"), std::string::npos) << m;
+  m = error_of("[ppo]\nlr_decay_start = 1\nlr_decay_end = 2\nlearning_rate_final = 2.0\n");
+  EXPECT_NE(m.find("ppo.learning_rate_final: value 2 is out of range; allowed [0, 1]"), std::string::npos) << m;
 }
 
 // ppo.matmul_precision: "auto" (also when absent) resolves to bf16 where the build/CPU has

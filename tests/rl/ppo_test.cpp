@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <utility>
+
 #include "fd_check.hpp"
 #include "rl/gaussian.hpp"
 
@@ -284,12 +287,69 @@ TEST(PpoConfig, EntropyCoefficientDecaysLinearly) {
   EXPECT_DOUBLE_EQ(entropy_coef_at(constant, 5'000'000), 0.02);
 }
 
+TEST(PpoConfig, LearningRateDecaysLinearlyToItsFinalValue) {
+  PpoConfig c;
+  c.learning_rate = 1e-3;
+  EXPECT_DOUBLE_EQ(learning_rate_at(c, 5'000'000), 1e-3);  // no schedule: constant
+  c.lr_decay_start = 100;
+  c.lr_decay_end = 200;
+  c.learning_rate_final = 1e-4;
+  EXPECT_DOUBLE_EQ(learning_rate_at(c, 0), 1e-3);
+  EXPECT_DOUBLE_EQ(learning_rate_at(c, 100), 1e-3);
+  EXPECT_NEAR(learning_rate_at(c, 150), 5.5e-4, 1e-18);
+  EXPECT_NEAR(learning_rate_at(c, 175), 3.25e-4, 1e-18);
+  EXPECT_DOUBLE_EQ(learning_rate_at(c, 200), 1e-4);
+  EXPECT_DOUBLE_EQ(learning_rate_at(c, 10'000), 1e-4);
+}
+
+// The update takes its step with the scheduled rate. Adam's first step moves each parameter by
+// lr * g / (|g| + eps) (bias-corrected m = g, v = g^2), so one update at half the rate moves every
+// parameter by exactly half as much, and a final rate of 0 moves nothing. The moves are measured
+// as float differences after - before, each off by up to half an ulp of the parameter, so half
+// and full/2 may differ by 0.75 ulp: the bound below is one float epsilon times |parameter|.
+TEST(PpoUpdate, StepsWithTheScheduledLearningRate) {
+  PpoConfig cfg;
+  cfg.batch_size = 10;  // the whole buffer: one minibatch, one Adam step
+  cfg.n_epochs = 1;
+  cfg.learning_rate = 1e-3;
+  cfg.lr_decay_start = 100;
+  cfg.lr_decay_end = 200;
+  cfg.learning_rate_final = 0.0;
+  const auto update_at = [&](std::int64_t t) {
+    Rng rng(1);
+    ActorCritic model(2, 1, {8}, {8});
+    model.init_orthogonal(rng);
+    const ActorCritic before = model;
+    const RolloutBuffer buf = make_buffer(model, -0.1f, rng);
+    Adam adam = make_adam(cfg);
+    ppo_update(model, adam, buf, cfg, t, rng);
+    return std::pair{Eigen::VectorXd((model.actor().params() - before.actor().params()).cast<double>()),
+                     Eigen::VectorXd(before.actor().params().cast<double>())};
+  };
+  const auto [full, p0] = update_at(50);
+  const Eigen::VectorXd half = update_at(150).first, none = update_at(250).first;
+  ASSERT_GT(full.cwiseAbs().maxCoeff(), 1e-4);  // the first step moves the largest-gradient weights by ~lr
+  const double ulp = std::numeric_limits<float>::epsilon();
+  EXPECT_LE(full.cwiseAbs().maxCoeff(), 1e-3 + ulp * p0.cwiseAbs().maxCoeff());
+  for (Eigen::Index i = 0; i < full.size(); ++i)
+    EXPECT_NEAR(half[i], 0.5 * full[i], ulp * std::abs(p0[i]) + 1e-12) << i;
+  EXPECT_EQ(none.cwiseAbs().maxCoeff(), 0.0);
+}
+
 TEST(PpoConfig, ValidateRejectsBadValues) {
   PpoConfig c;
   c.batch_size = 0;
   EXPECT_THROW(validate(c), std::invalid_argument);
   c = PpoConfig{};
   c.ent_decay_start = 10;
+  EXPECT_THROW(validate(c), std::invalid_argument);
+  c = PpoConfig{};
+  c.lr_decay_end = 10;  // without its start
+  EXPECT_THROW(validate(c), std::invalid_argument);
+  c.lr_decay_start = 10;  // start = end
+  EXPECT_THROW(validate(c), std::invalid_argument);
+  c.lr_decay_start = 5;
+  c.learning_rate_final = -1e-4;
   EXPECT_THROW(validate(c), std::invalid_argument);
   EXPECT_NO_THROW(validate(paper_ppo_config()));
 }
