@@ -1,5 +1,7 @@
 #include "io/gym_config.hpp"
 
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,23 @@ std::vector<int> hidden(TableReader& t, std::string_view key, const std::vector<
                             static_cast<std::size_t>(ppo_range::hidden_layers.lo),
                             static_cast<std::size_t>(ppo_range::hidden_layers.hi));
   return std::vector<int>(v.begin(), v.end());
+}
+
+// A schedule window PREFIX_start < PREFIX_end in timesteps, both or neither: absent keeps the
+// caller's values (the defaults), present replaces them.
+void read_decay_window(TableReader& t, const std::string& prefix, Range<std::int64_t> range,
+                       std::optional<std::int64_t>& start, std::optional<std::int64_t>& end) {
+  const std::string ks = prefix + "_start", ke = prefix + "_end";
+  if (!t.has(ks) && !t.has(ke)) {
+    t.integer(ks, 0, range);  // marks both as read so finish() accepts neither being present
+    t.integer(ke, 0, range);
+    return;
+  }
+  if (!t.has(ks) || !t.has(ke))
+    t.fail(t.has(ks) ? ke : ks, "missing; " + ks + " and " + ke + " must be given together");
+  start = t.integer(ks, 0, range);
+  end = t.integer(ke, 0, range);
+  if (*end <= *start) t.fail(ke, "must be greater than " + ks + " (" + std::to_string(*start) + ")");
 }
 
 }  // namespace
@@ -45,38 +64,17 @@ rl::PpoConfig read_ppo_config(TableReader& t, const rl::PpoConfig& d) {
   c.ent_coef = t.number("ent_coef", d.ent_coef, ppo_range::ent_coef);
   c.ent_decay_start = d.ent_decay_start;
   c.ent_decay_end = d.ent_decay_end;
-  if (t.has("ent_decay_start") || t.has("ent_decay_end")) {
-    if (!t.has("ent_decay_start") || !t.has("ent_decay_end"))
-      t.fail(t.has("ent_decay_start") ? "ent_decay_end" : "ent_decay_start",
-             "missing; ent_decay_start and ent_decay_end must be given together");
-    c.ent_decay_start = t.integer("ent_decay_start", 0, ppo_range::ent_decay_timesteps);
-    c.ent_decay_end = t.integer("ent_decay_end", 0, ppo_range::ent_decay_timesteps);
-    if (*c.ent_decay_end <= *c.ent_decay_start)
-      t.fail("ent_decay_end", "must be greater than ent_decay_start (" +
-                                  std::to_string(*c.ent_decay_start) + ")");
-  } else {
-    // Mark both as read so finish() accepts neither being present.
-    t.integer("ent_decay_start", 0, ppo_range::ent_decay_timesteps);
-    t.integer("ent_decay_end", 0, ppo_range::ent_decay_timesteps);
-  }
   c.lr_decay_start = d.lr_decay_start;
   c.lr_decay_end = d.lr_decay_end;
   c.learning_rate_final = d.learning_rate_final;
-  if (t.has("lr_decay_start") || t.has("lr_decay_end")) {
-    if (!t.has("lr_decay_start") || !t.has("lr_decay_end"))
-      t.fail(t.has("lr_decay_start") ? "lr_decay_end" : "lr_decay_start",
-             "missing; lr_decay_start and lr_decay_end must be given together");
-    c.lr_decay_start = t.integer("lr_decay_start", 0, ppo_range::lr_decay_timesteps);
-    c.lr_decay_end = t.integer("lr_decay_end", 0, ppo_range::lr_decay_timesteps);
-    if (*c.lr_decay_end <= *c.lr_decay_start)
-      t.fail("lr_decay_end", "must be greater than lr_decay_start (" + std::to_string(*c.lr_decay_start) + ")");
+  read_decay_window(t, "ent_decay", ppo_range::ent_decay_timesteps, c.ent_decay_start, c.ent_decay_end);
+  read_decay_window(t, "lr_decay", ppo_range::lr_decay_timesteps, c.lr_decay_start, c.lr_decay_end);
+  if (c.lr_decay_start) {
     c.learning_rate_final = t.number("learning_rate_final", d.learning_rate_final, ppo_range::learning_rate_final);
   } else {
     if (t.has("learning_rate_final"))
       t.fail("learning_rate_final", "applies only with lr_decay_start and lr_decay_end; give both or drop it");
-    t.integer("lr_decay_start", 0, ppo_range::lr_decay_timesteps);
-    t.integer("lr_decay_end", 0, ppo_range::lr_decay_timesteps);
-    t.number("learning_rate_final", 0.0, ppo_range::learning_rate_final);
+    t.number("learning_rate_final", 0.0, ppo_range::learning_rate_final);  // marks it read
   }
   c.vf_coef = t.number("vf_coef", d.vf_coef, ppo_range::vf_coef);
   c.max_grad_norm = t.number("max_grad_norm", d.max_grad_norm, ppo_range::max_grad_norm);

@@ -75,20 +75,17 @@ void validate(const PpoConfig& c) {
   check("gae_lambda", c.gae_lambda, ppo_range::gae_lambda);
   check("clip_range", c.clip_range, ppo_range::clip_range);
   check("ent_coef", c.ent_coef, ppo_range::ent_coef);
-  if (c.ent_decay_start.has_value() != c.ent_decay_end.has_value())
-    fail("ent_decay_start and ent_decay_end must be given together");
-  if (c.ent_decay_start) {
-    check("ent_decay_start", *c.ent_decay_start, ppo_range::ent_decay_timesteps);
-    check("ent_decay_end", *c.ent_decay_end, ppo_range::ent_decay_timesteps);
-    if (!(*c.ent_decay_end > *c.ent_decay_start)) fail("need ent_decay_start < ent_decay_end");
-  }
-  if (c.lr_decay_start.has_value() != c.lr_decay_end.has_value())
-    fail("lr_decay_start and lr_decay_end must be given together");
-  if (c.lr_decay_start) {
-    check("lr_decay_start", *c.lr_decay_start, ppo_range::lr_decay_timesteps);
-    check("lr_decay_end", *c.lr_decay_end, ppo_range::lr_decay_timesteps);
-    if (!(*c.lr_decay_end > *c.lr_decay_start)) fail("need lr_decay_start < lr_decay_end");
-  }
+  // A schedule window: both ends or neither, start < end.
+  auto check_window = [&](const std::string& prefix, const std::optional<std::int64_t>& start,
+                          const std::optional<std::int64_t>& end, Range<std::int64_t> range) {
+    if (start.has_value() != end.has_value()) fail(prefix + "_start and " + prefix + "_end must be given together");
+    if (!start) return;
+    check((prefix + "_start").c_str(), *start, range);
+    check((prefix + "_end").c_str(), *end, range);
+    if (!(*end > *start)) fail("need " + prefix + "_start < " + prefix + "_end");
+  };
+  check_window("ent_decay", c.ent_decay_start, c.ent_decay_end, ppo_range::ent_decay_timesteps);
+  check_window("lr_decay", c.lr_decay_start, c.lr_decay_end, ppo_range::lr_decay_timesteps);
   check("learning_rate_final", c.learning_rate_final, ppo_range::learning_rate_final);
   check("vf_coef", c.vf_coef, ppo_range::vf_coef);
   check("max_grad_norm", c.max_grad_norm, ppo_range::max_grad_norm);
