@@ -48,10 +48,8 @@ const rl::VecStepResult& ThreadEnvPool::step(const Eigen::MatrixXd& actions, boo
     rl::StepResult r = env.step(actions.col(c));
     Observer& o = observers_[i];
     if (o.every > 0 && ++o.decisions % o.every == 0) {
-      const fem::Sensors s = env.simulator().sensors();
       const double a = std::isfinite(actions(0, c)) ? std::clamp(actions(0, c), -1.0, 1.0) : 0.0;
-      o.fn(env.episode(), TraceRow{env.decisions_taken() - 1, s.time_s, s.theta_rad, s.contact_force_mN,
-                                   s.axial_strain, s.tip_position_mm, s.plate_z_mm, a});
+      o.fn(env.episode(), trace_row(env.simulator().sensors(), env.decisions_taken() - 1, a));
     }
     result_.rewards(c) = r.reward;
     result_.terminated[i] = r.terminated ? 1 : 0;

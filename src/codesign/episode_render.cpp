@@ -41,19 +41,6 @@ io::FrameOverlay overlay_of(const TraceRow& r, const TaskConfig& task, const std
   return o;
 }
 
-TraceRow row_of(const fem::Simulator& sim, int decision, double action) {
-  const fem::Sensors s = sim.sensors();
-  TraceRow r;
-  r.decision = decision;
-  r.t_s = s.time_s;
-  r.theta_rad = s.theta_rad;
-  r.force_mN = s.contact_force_mN;
-  r.strain = s.axial_strain;
-  r.tip_mm = s.tip_position_mm;
-  r.plate_z_mm = s.plate_z_mm;
-  r.action = action;
-  return r;
-}
 
 // Keeps the frames to render: every `every` steps, and always the last step seen.
 class FrameKeeper {
@@ -211,7 +198,7 @@ std::vector<RecordedFrame> record_scenario(const std::shared_ptr<SimulatorPool>&
   sim->reset();
   sim->set_pressures_kPa(sc.pressures_kPa[0], sc.pressures_kPa.size() > 1 ? sc.pressures_kPa[1] : 0.0);
   fem::StepResult r = sim->settle();
-  if (r.ok()) keep.see(*sim, row_of(*sim, 0, 0.0));
+  if (r.ok()) keep.see(*sim, trace_row(sim->sensors(), 0, 0.0));
   for (int k = 0; k < sc.steps && r.ok(); ++k) {
     const int hold = k / sc.theta_hold_steps;
     if (k % sc.theta_hold_steps == 0) {
@@ -219,7 +206,7 @@ std::vector<RecordedFrame> record_scenario(const std::shared_ptr<SimulatorPool>&
       sim->set_base_angle_target(sc.theta_deg[i] * std::numbers::pi / 180.0, sc.theta_hold_steps);
     }
     r = sim->step();
-    if (r.ok()) keep.see(*sim, row_of(*sim, hold, 0.0));
+    if (r.ok()) keep.see(*sim, trace_row(sim->sensors(), hold, 0.0));
   }
   sims->release(sc.design, std::move(sim));
   return keep.finish();

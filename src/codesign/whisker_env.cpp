@@ -176,9 +176,7 @@ Eigen::VectorXd WhiskerEnv::observe() const {
 }
 
 void WhiskerEnv::record(double action) {
-  const fem::Sensors s = sim_->sensors();
-  trace_.push_back({decision_, s.time_s, s.theta_rad, s.contact_force_mN, s.axial_strain, s.tip_position_mm,
-                    s.plate_z_mm, action, strain_zero_});
+  trace_.push_back(trace_row(sim_->sensors(), decision_, action, strain_zero_));
   if (observer_) observer_(*sim_, trace_.back());
 }
 

@@ -67,6 +67,12 @@ struct TraceRow {
   double strain_zero = 0.0;     // ε₀ subtracted from ε in the observation (0 unless "inflated")
 };
 
+// The row of the simulator's present state.
+inline TraceRow trace_row(const fem::Sensors& s, int decision, double action, double strain_zero = 0.0) {
+  return {decision, s.time_s, s.theta_rad, s.contact_force_mN, s.axial_strain, s.tip_position_mm,
+          s.plate_z_mm, action, strain_zero};
+}
+
 // r_f of SPEC §3 for a force F.
 double force_reward(double force_mN, const TaskConfig& task);
 // Whether F lies inside the ±tolerance band around the target.
