@@ -14,6 +14,7 @@
 #include <string>
 
 #include "codesign/outer_loop.hpp"
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "sim_setup.hpp"
 
@@ -97,7 +98,7 @@ void add_bench_codesign_command(CLI::App& bench, Runner& run) {
   CLI::App* cmd = bench.add_subcommand("codesign", "Algorithm 1 at paper sizes: env steps/s, time split, projected run time");
   cmd->add_option("--config", opt->config, "run config (default configs/paper.toml)");
   cmd->add_option("--iterations", opt->iterations, "timed iterations after one warm-up (default 3)")->check(CLI::Range(1, 1000));
-  cmd->add_option("--threads", opt->threads, "rollout threads (0: all cores)")->check(CLI::Range(0, 1024));
+  add_threads_option(*cmd, opt->threads, "rollout threads (0: all cores)");
   cmd->callback([opt, &run] { run = [opt] { return run_bench_codesign(*opt); }; });
 }
 

@@ -18,6 +18,7 @@
 
 #include "base/errors.hpp"
 #include "codesign/run.hpp"
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "sim_setup.hpp"
 
@@ -113,8 +114,7 @@ void add_bench_telemetry_command(CLI::App& bench, Runner& run) {
   cmd->add_option("--config", opt->config, "run config (TOML)");
   cmd->add_option("--iterations", opt->iterations, "iterations of Algorithm 1 per run")->check(CLI::Range(1, 100000));
   cmd->add_option("--url", opt->url, "LCM URL for the run with telemetry (default: a file:// log in a temporary folder)");
-  cmd->add_option("--threads", opt->threads, "rollout threads, counting the main one (0: all cores)")
-      ->check(CLI::Range(0, 1024));
+  add_threads_option(*cmd, opt->threads, "rollout threads, counting the main one (0: all cores)");
   cmd->callback([opt, &run] { run = [opt] { return run_bench_telemetry(*opt); }; });
 }
 

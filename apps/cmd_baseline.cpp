@@ -15,6 +15,7 @@
 #include "base/errors.hpp"
 #include "codesign/design_sweep.hpp"
 #include "codesign/pid_tuning.hpp"
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
@@ -149,7 +150,7 @@ void add_baseline_command(CLI::App& root, Runner& run) {
   cmd->add_option("-o,--out", opt->out, "output directory")->required();
   cmd->add_option("--p1", opt->p1, "chamber 1 pressure, kPa (default 0)");
   cmd->add_option("--p2", opt->p2, "chamber 2 pressure, kPa (default 0; ignored for one chamber)");
-  cmd->add_option("--threads", opt->threads, "threads (0: all cores)")->check(CLI::Range(0, 1024));
+  add_threads_option(*cmd, opt->threads);
   cmd->add_flag("--force", opt->force, "overwrite an earlier baseline.toml in the output directory");
   cmd->callback([opt, &run] { run = [opt] { return run_baseline(*opt); }; });
 }

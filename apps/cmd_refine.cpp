@@ -12,6 +12,7 @@
 
 #include "base/errors.hpp"
 #include "codesign/refine.hpp"
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
 #include "io/toml_reader.hpp"
@@ -94,7 +95,7 @@ void add_refine_command(CLI::App& root, Runner& run) {
       ->check(CLI::Range(1, 10000));
   cmd->add_option("--method", opt->method, "bobyqa (default), cobyla, neldermead or sbplx")
       ->check(CLI::IsMember({"bobyqa", "cobyla", "neldermead", "sbplx"}));
-  cmd->add_option("--threads", opt->threads, "threads (0: all cores)")->check(CLI::Range(0, 1024));
+  add_threads_option(*cmd, opt->threads);
   cmd->callback([opt, &run] { run = [opt] { return run_refine(*opt); }; });
 }
 

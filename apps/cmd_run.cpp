@@ -14,6 +14,7 @@
 #include "base/errors.hpp"
 #include "codesign/episode_render.hpp"
 #include "codesign/run.hpp"
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "io/toml_reader.hpp"
 #include "sim_setup.hpp"
@@ -80,8 +81,7 @@ void add_run_command(CLI::App& root, Runner& run) {
   CLI::Option* resume = cmd->add_flag("--resume", opt->resume, "continue the run in the folder from its checkpoint.bin");
   CLI::Option* force = cmd->add_flag("--force", opt->force, "start afresh even if the folder holds an earlier run");
   resume->excludes(force);
-  cmd->add_option("--threads", opt->threads, "rollout threads, counting the main one (0: all cores)")
-      ->check(CLI::Range(0, 1024));
+  add_threads_option(*cmd, opt->threads, "rollout threads, counting the main one (0: all cores)");
   cmd->add_option("--stop-after", opt->stop_after,
                   "stop (checkpointed, exit status 4) after the iteration reaching this many timesteps; for tests")
       ->check(CLI::Range(0LL, 1LL << 40));

@@ -20,6 +20,7 @@
 
 #include "base/errors.hpp"
 #include "codesign/evaluation.hpp"
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
@@ -50,19 +51,9 @@ struct DesignRow {
   coopt::FixedThetaResult fixed;
 };
 
-std::pair<int, int> parse_range(const std::string& s) {
-  int a = -1, b = -1;
-  char dash = 0;
-  if (std::sscanf(s.c_str(), "%d%c%d", &a, &dash, &b) == 3 && dash == '-' && 0 <= a && a <= b && b < fem::kDesignCount)
-    return {a, b};
-  if (std::sscanf(s.c_str(), "%d", &a) == 1 && s.find('-') == std::string::npos && 0 <= a && a < fem::kDesignCount)
-    return {a, a};
-  throw InputError("--designs: '" + s + "' is not a design index or range A-B within 0..109");
-}
-
 int run_survey(const SurveyOptions& o) {
   const SimSetup setup = read_sim_setup(o.config);
-  const auto [first, last] = parse_range(o.designs);
+  const auto [first, last] = parse_design_range(o.designs);
   const fs::path dir(o.out);
   std::error_code ec;
   if (fs::exists(dir / "survey.csv", ec) && !o.force)
@@ -173,11 +164,11 @@ void add_survey_command(CLI::App& root, Runner& run) {
       "survey", "Measure the strain reference range and the best fixed-theta return of every design");
   cmd->add_option("--config", opt->config, "run config (TOML)")->required();
   cmd->add_option("-o,--out", opt->out, "output directory (default runs/survey)");
-  cmd->add_option("--designs", opt->designs, "design index or range A-B (default 0-109)");
+  add_designs_option(*cmd, opt->designs, "0-109");
   cmd->add_option("--phases", opt->phases, "plate phases per fixed-theta evaluation (default 2)")
       ->check(CLI::Range(1, 1000));
   cmd->add_flag("!--no-fixed-theta", opt->fixed_theta, "skip the fixed-theta search");
-  cmd->add_option("--threads", opt->threads, "threads (0: all cores)")->check(CLI::Range(0, 1024));
+  add_threads_option(*cmd, opt->threads);
   cmd->add_flag("--force", opt->force, "overwrite an earlier survey.csv in the output directory");
   cmd->callback([opt, &run] { run = [opt] { return run_survey(*opt); }; });
 }

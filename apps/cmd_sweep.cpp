@@ -16,8 +16,10 @@
 #include <string>
 #include <vector>
 
+#include "base/duration_text.hpp"
 #include "base/errors.hpp"
 #include "codesign/design_sweep.hpp"
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
 #include "io/gnuplot.hpp"
@@ -75,26 +77,9 @@ void plot_heatmaps(const fs::path& dir, const coopt::SweepConfig& sweep, const s
   }
 }
 
-std::pair<int, int> parse_designs(const std::string& s) {
-  int a = -1, b = -1;
-  char dash = 0;
-  if (std::sscanf(s.c_str(), "%d%c%d", &a, &dash, &b) == 3 && dash == '-' && 0 <= a && a <= b && b < fem::kDesignCount)
-    return {a, b};
-  if (std::sscanf(s.c_str(), "%d", &a) == 1 && s.find('-') == std::string::npos && 0 <= a && a < fem::kDesignCount)
-    return {a, a};
-  throw InputError("--designs: '" + s + "' is not a design index or range A-B within 0..109");
-}
-
-std::string hms(double s) {
-  char buf[32];
-  const auto t = static_cast<long>(s + 0.5);
-  std::snprintf(buf, sizeof buf, "%ldh%02ldm%02lds", t / 3600, (t / 60) % 60, t % 60);
-  return buf;
-}
-
 int run_sweep_command(const SweepCliOptions& o) {
   SimSetup setup = read_sim_setup(o.config);
-  if (!o.designs.empty()) std::tie(setup.sweep.first_design, setup.sweep.last_design) = parse_designs(o.designs);
+  if (!o.designs.empty()) std::tie(setup.sweep.first_design, setup.sweep.last_design) = parse_design_range(o.designs);
   auto sims = std::make_shared<coopt::SimulatorPool>(setup.spec, setup.scene, setup.solver);
   coopt::SweepOptions so;
   so.dir = o.out;
@@ -115,7 +100,7 @@ int run_sweep_command(const SweepCliOptions& o) {
   std::fflush(stdout);
   const coopt::SweepSummary s = coopt::run_sweep(sims, setup.task, setup.sweep, pc, so);
   std::printf("sweep: %d rows run now, %d before, %d of %d in all; this call took %s\n", s.rows_run,
-              s.rows_done_before, static_cast<int>(s.rows.size()), s.rows_total, hms(s.wall_s).c_str());
+              s.rows_done_before, static_cast<int>(s.rows.size()), s.rows_total, duration_text(s.wall_s).c_str());
   // Summary per controller: best design, median, and the best few.
   for (coopt::SweepController c : setup.sweep.controllers) {
     std::vector<const coopt::SweepRow*> rows;
@@ -147,8 +132,8 @@ void add_sweep_command(CLI::App& root, Runner& run) {
       "sweep", "Design landscape: every design on a pressure grid with tuned PIDs and the best fixed theta");
   cmd->add_option("--config", opt->config, "run config (TOML; [sweep], [pid])")->required();
   cmd->add_option("-o,--out", opt->out, "output directory (default runs/sweep)");
-  cmd->add_option("--designs", opt->designs, "design index or range A-B (default: [sweep] first/last_design)");
-  cmd->add_option("--threads", opt->threads, "threads (0: all cores)")->check(CLI::Range(0, 1024));
+  add_designs_option(*cmd, opt->designs, "[sweep] first_design..last_design");
+  add_threads_option(*cmd, opt->threads);
   cmd->add_flag("--force", opt->force, "start afresh even if the directory holds a sweep of another config");
   cmd->add_flag("--report", opt->report,
                 "run nothing: heat maps and summary from the rows of an earlier (possibly unfinished) sweep");

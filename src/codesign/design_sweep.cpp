@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "base/duration_text.hpp"
 #include "base/errors.hpp"
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
@@ -27,17 +28,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using io::CsvLog;
-
-std::string hms(double s) {
-  if (!std::isfinite(s) || s < 0) return "?";
-  const auto t = static_cast<long>(s + 0.5);
-  char buf[32];
-  if (t >= 3600)
-    std::snprintf(buf, sizeof buf, "%ldh%02ldm", t / 3600, (t / 60) % 60);
-  else
-    std::snprintf(buf, sizeof buf, "%ldm%02lds", t / 60, t % 60);
-  return buf;
-}
 
 using RowKey = std::tuple<int, double, double, int>;
 RowKey key(const SweepPoint& p, SweepController c) { return {p.design, p.p1_kPa, p.p2_kPa, static_cast<int>(c)}; }
@@ -382,7 +372,7 @@ SweepSummary run_sweep(const std::shared_ptr<SimulatorPool>& sims, const TaskCon
         const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
         const double eta = el / static_cast<double>(units_done) * static_cast<double>(units.size() - units_done);
         std::printf("sweep: %zu/%zu | %s elapsed | ETA %s | j%d p=[%g, %g]:%s\n", units_done, units.size(),
-                    hms(el).c_str(), hms(eta).c_str(), u.point.design, u.point.p1_kPa, u.point.p2_kPa,
+                    duration_text(el).c_str(), duration_text(eta).c_str(), u.point.design, u.point.p1_kPa, u.point.p2_kPa,
                     line_summary.c_str());
         std::fflush(stdout);
       }

@@ -14,6 +14,7 @@
 
 #include <unistd.h>
 
+#include "base/duration_text.hpp"
 #include "base/errors.hpp"
 #include "codesign/checkpoint.hpp"
 #include "codesign/config_writer.hpp"
@@ -40,17 +41,6 @@ std::string design_label(int j) {
   const fem::Design d = fem::design_from_index(j);
   char buf[64];
   std::snprintf(buf, sizeof buf, "j%d {%d, %g mm, %g mm}", j, d.n, d.chamber_length_mm, d.wall_mm);
-  return buf;
-}
-
-std::string duration(double s) {
-  if (!std::isfinite(s) || s < 0) return "?";
-  char buf[32];
-  const auto total = static_cast<long>(s + 0.5);
-  if (total >= 3600)
-    std::snprintf(buf, sizeof buf, "%ldh%02ldm", total / 3600, (total / 60) % 60);
-  else
-    std::snprintf(buf, sizeof buf, "%ldm%02lds", total / 60, total % 60);
   return buf;
 }
 
@@ -429,7 +419,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
       std::printf("%st %lld/%lld (%.1f%%) | %.0f steps/s | ETA %s | %s | mean return %.2f | best %s R^ %.2f%s%s",
                   tty ? "\r" : "", static_cast<long long>(rep.t), static_cast<long long>(T),
                   100.0 * static_cast<double>(rep.t) / static_cast<double>(T), rate,
-                  duration(static_cast<double>(T - rep.t) / std::max(rate, 1e-9)).c_str(), to_string(d.phase(rep.t)),
+                  duration_text(static_cast<double>(T - rep.t) / std::max(rate, 1e-9)).c_str(), to_string(d.phase(rep.t)),
                   mean_first, design_label(best).c_str(), d.state().score[best], failures.c_str(),
                   tty ? "   " : "\n");
       std::fflush(stdout);
@@ -514,7 +504,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     std::printf("codesign: %lld training episodes ended by a numerical failure (episodes.csv reason \"numerical: ...\")\n",
                 static_cast<long long>(numerical));
   std::printf("codesign: %lld timesteps in %s -> %s\n", static_cast<long long>(loop.timesteps()),
-              duration(wall_total).c_str(), (dir / "result.toml").string().c_str());
+              duration_text(wall_total).c_str(), (dir / "result.toml").string().c_str());
   result.completed = true;
   result.timesteps = loop.timesteps();
   report_telemetry(result);
