@@ -33,7 +33,8 @@ Eigen::Matrix3d deformation_gradient(const TetRest& rest, const std::array<Eigen
   return ds * rest.dm_inv;
 }
 
-Eigen::Quaterniond polar_rotation(const Eigen::Matrix3d& F, const Eigen::Quaterniond& guess, double tolerance) {
+Eigen::Quaterniond polar_rotation(const Eigen::Matrix3d& F, const Eigen::Quaterniond& guess, double tolerance,
+                                  Eigen::Matrix3d* rotation) {
   // Find R with Rᵀ F symmetric. With A = Rᵀ F, a = axial(skew A) and R ← R exp([ω]×), the
   // linearised condition skew(A) = ½ [(tr A · I − sym A) ω]× gives the Newton step
   //   ω = 2 (tr A · I − sym A)⁻¹ a       (quadratic convergence from a warm start);
@@ -86,6 +87,8 @@ Eigen::Quaterniond polar_rotation(const Eigen::Matrix3d& F, const Eigen::Quatern
     if (angle2 < tolerance && newton) break;
     if (angle2 < tol2) break;
   }
+  // R is q.toRotationMatrix() of the final q on every path out of the loop.
+  if (rotation) *rotation = R;
   return q;
 }
 

@@ -40,8 +40,10 @@ Eigen::Matrix3d deformation_gradient(const TetRest& rest, const std::array<Eigen
 // the symmetry of Rᵀ F, warm-started from `guess` (pass the previous step's rotation; identity
 // is fine), with a Müller et al. (2016) step where Newton's matrix is indefinite. Stops when the
 // remaining angle error is below `tolerance` [rad] (after a Newton step of size |ω| the error is
-// O(|ω|²)), or after 60 iterations.
-Eigen::Quaterniond polar_rotation(const Eigen::Matrix3d& F, const Eigen::Quaterniond& guess, double tolerance);
+// O(|ω|²)), or after 60 iterations. If `rotation` is given, it receives the returned
+// quaternion's rotation matrix (exactly its toRotationMatrix(), computed once inside).
+Eigen::Quaterniond polar_rotation(const Eigen::Matrix3d& F, const Eigen::Quaterniond& guess, double tolerance,
+                                  Eigen::Matrix3d* rotation = nullptr);
 // Same, converged to 1e-14 rad.
 Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& F, const Eigen::Matrix3d& guess);
 // Reference implementation through the SVD (used by tests).

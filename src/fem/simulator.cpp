@@ -162,8 +162,7 @@ struct Simulator::Impl {
                                : "non-finite deformation in element " + std::to_string(e);
         return std::isfinite(J) ? StepStatus::InvertedElement : StepStatus::NonFinite;
       }
-      qrot[e] = polar_rotation(F, qrot[e], rotation_tolerance);
-      rot[e] = qrot[e].toRotationMatrix();
+      qrot[e] = polar_rotation(F, qrot[e], rotation_tolerance, &rot[e]);
       if (u) {  // force and K_e u_e in one pass while the element is in cache
         Vec12 ue, fe, ye;
         for (int a = 0; a < 4; ++a) ue.segment<3>(3 * a) = u->segment<3>(3 * tt[a]);

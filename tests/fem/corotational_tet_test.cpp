@@ -83,6 +83,27 @@ TEST(CorotationalTet, PolarRotationMatchesSvd) {
   }
 }
 
+// The matrix handed out with the quaternion is exactly that quaternion's rotation matrix (the
+// simulator stores both; it must not matter which one a caller uses), on every exit path: the
+// cold start, the warm start, the tight and the loose tolerance, and a guess that is already exact.
+TEST(CorotationalTet, PolarRotationMatrixOutIsItsQuaternionsMatrix) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.2, 0.2);
+  for (int trial = 0; trial < 50; ++trial) {
+    const Eigen::Matrix3d Q = random_rotation(rng);
+    Eigen::Matrix3d H;
+    for (int i = 0; i < 9; ++i) H(i) = u(rng);
+    const Eigen::Matrix3d F = Q * (Eigen::Matrix3d::Identity() + H);
+    const Eigen::Quaterniond exact(polar_rotation_svd(F));
+    for (const Eigen::Quaterniond& guess : {Eigen::Quaterniond::Identity(), Eigen::Quaterniond(Q), exact})
+      for (double tol : {1e-14, 1e-6}) {
+        Eigen::Matrix3d R;
+        const Eigen::Quaterniond q = polar_rotation(F, guess, tol, &R);
+        EXPECT_EQ(R, q.toRotationMatrix());
+      }
+  }
+}
+
 TEST(CorotationalTet, RigidMotionGivesZeroForce) {
   std::mt19937 rng(7);
   const auto X = rest_tet();
