@@ -7,7 +7,8 @@
 //    step);
 // over the same episode: quasi-static settling, then N steps of the plate oscillation while θ
 // follows a fixed, action-like schedule (θ target 1° + 1°·sin(0.37 d) for decision d = k / 5, each
-// change spread over 5 steps). Prints the median / mean /
+// change spread over 5 steps; with --turn-deg D instead D·sin(1.1 d), turns of up to about
+// 1.04·D per decision, like those of a policy that is still exploring). Prints the median / mean /
 // 90th-percentile step times, the speed-up, and the difference between the two trajectories:
 // max |ΔF| relative to max F, max per-step relative ΔF where F > 10 % of max F, and max tip
 // position difference.
@@ -31,6 +32,7 @@ struct BenchFemOptions {
   std::string config;
   int design = -1;
   int steps = 250;
+  double turn_deg = -1.0;  // < 0: the gentle default schedule
 };
 
 // CPU time of this thread [s]: unlike wall time it excludes time the scheduler gave to other
@@ -48,8 +50,15 @@ struct Trace {
   std::string failure;
 };
 
+// θ target of decision d: the gentle default schedule, or turn_deg·sin(1.1 d).
+double theta_target(int d, double turn_deg) {
+  const double theta_max = std::numbers::pi / 18.0;
+  if (turn_deg < 0.0) return 0.1 * theta_max * (1.0 + std::sin(0.37 * d));
+  return turn_deg * std::numbers::pi / 180.0 * std::sin(1.1 * d);
+}
+
 Trace run_episode(const std::shared_ptr<const fem::Model>& model, const SimSetup& s, fem::StepMethod method,
-                  int steps) {
+                  int steps, double turn_deg) {
   fem::SolverConfig so = s.solver;
   so.method = method;
   fem::Simulator sim(model, s.scene, so);
@@ -60,9 +69,8 @@ Trace run_episode(const std::shared_ptr<const fem::Model>& model, const SimSetup
     tr.failure = "settle: " + r.reason;
     return tr;
   }
-  const double theta_max = std::numbers::pi / 18.0;
   for (int k = 0; k < steps; ++k) {
-    if (k % 5 == 0) sim.set_base_angle_target(0.1 * theta_max * (1.0 + std::sin(0.37 * (k / 5))), 5);
+    if (k % 5 == 0) sim.set_base_angle_target(theta_target(k / 5, turn_deg), 5);
     const auto t0 = std::chrono::steady_clock::now();
     const double c0 = thread_cpu_seconds();
     r = sim.step();
@@ -99,8 +107,14 @@ int run_bench(const BenchFemOptions& opt) {
               design, model->node_count(), model->mesh.tets.size(),
               3 * (model->node_count() - static_cast<int>(model->base_nodes.size())), model->fibres.size(),
               s.solver.dt_s, opt.steps);
-  const Trace fast = run_episode(model, s, fem::StepMethod::Fast, opt.steps);
-  const Trace exact = run_episode(model, s, fem::StepMethod::Exact, opt.steps);
+  if (opt.turn_deg < 0.0)
+    std::printf("  theta target 1 + sin(0.37 d) deg per decision d");
+  else
+    std::printf("  theta target %g sin(1.1 d) deg per decision d", opt.turn_deg);
+  std::printf(" (5 steps each); fast_tolerance %g, refactorise after %d CG iterations\n", s.solver.fast_tolerance,
+              s.solver.fast_refactor_iterations);
+  const Trace fast = run_episode(model, s, fem::StepMethod::Fast, opt.steps, opt.turn_deg);
+  const Trace exact = run_episode(model, s, fem::StepMethod::Exact, opt.steps, opt.turn_deg);
   if (!fast.failure.empty() || !exact.failure.empty()) {
     std::fprintf(stderr, "bench fem: failed: fast [%s] exact [%s]\n", fast.failure.c_str(), exact.failure.c_str());
     return 3;
@@ -141,6 +155,9 @@ void add_bench_fem_command(CLI::App& bench, Runner& run) {
   cmd->add_option("--config", opt->config, "run config (TOML); default: built-in defaults");
   cmd->add_option("--design", opt->design, "design index 0..109 (default [sim].design = 21)")->check(CLI::Range(0, 109));
   cmd->add_option("--steps", opt->steps, "steps of the episode (default 250)")->check(CLI::Range(10, 100000));
+  cmd->add_option("--turn-deg", opt->turn_deg,
+                  "theta target D*sin(1.1 d) per decision d, policy-like turns (default: 1 + sin(0.37 d) deg)")
+      ->check(CLI::Range(0.0, 10.0));
   cmd->callback([opt, &run] { run = [opt] { return run_bench(*opt); }; });
 }
 
