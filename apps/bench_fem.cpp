@@ -19,6 +19,7 @@
 #include <ctime>
 #include <memory>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "commands.hpp"
@@ -50,11 +51,18 @@ struct Trace {
   std::string failure;
 };
 
-// θ target of decision d: the gentle default schedule, or turn_deg·sin(1.1 d).
+// θ target of decision d: the gentle default schedule, or turn_deg·sin(1.1 d); and the same
+// schedule in words, for the header line.
 double theta_target(int d, double turn_deg) {
   const double theta_max = std::numbers::pi / 18.0;
   if (turn_deg < 0.0) return 0.1 * theta_max * (1.0 + std::sin(0.37 * d));
   return turn_deg * std::numbers::pi / 180.0 * std::sin(1.1 * d);
+}
+std::string theta_schedule_text(double turn_deg) {
+  if (turn_deg < 0.0) return "1 + sin(0.37 d) deg";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%g sin(1.1 d) deg", turn_deg);
+  return buf;
 }
 
 Trace run_episode(const std::shared_ptr<const fem::Model>& model, const SimSetup& s, fem::StepMethod method,
@@ -107,12 +115,8 @@ int run_bench(const BenchFemOptions& opt) {
               design, model->node_count(), model->mesh.tets.size(),
               3 * (model->node_count() - static_cast<int>(model->base_nodes.size())), model->fibres.size(),
               s.solver.dt_s, opt.steps);
-  if (opt.turn_deg < 0.0)
-    std::printf("  theta target 1 + sin(0.37 d) deg per decision d");
-  else
-    std::printf("  theta target %g sin(1.1 d) deg per decision d", opt.turn_deg);
-  std::printf(" (5 steps each); fast_tolerance %g, refactorise after %d CG iterations\n", s.solver.fast_tolerance,
-              s.solver.fast_refactor_iterations);
+  std::printf("  theta target %s per decision d (5 steps each); fast_tolerance %g, refactorise after %d CG iterations\n",
+              theta_schedule_text(opt.turn_deg).c_str(), s.solver.fast_tolerance, s.solver.fast_refactor_iterations);
   const Trace fast = run_episode(model, s, fem::StepMethod::Fast, opt.steps, opt.turn_deg);
   const Trace exact = run_episode(model, s, fem::StepMethod::Exact, opt.steps, opt.turn_deg);
   if (!fast.failure.empty() || !exact.failure.empty()) {

@@ -17,11 +17,9 @@
 #include <vector>
 
 #include "base/duration_text.hpp"
-#include "base/errors.hpp"
 #include "codesign/design_sweep.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
-#include "fem/design.hpp"
 #include "io/gnuplot.hpp"
 #include "io/toml_reader.hpp"
 #include "sim_setup.hpp"

@@ -41,7 +41,6 @@ io::FrameOverlay overlay_of(const TraceRow& r, const TaskConfig& task, const std
   return o;
 }
 
-
 // Keeps the frames to render: every `every` steps, and always the last step seen.
 class FrameKeeper {
  public:

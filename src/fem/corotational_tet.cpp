@@ -93,7 +93,9 @@ Eigen::Quaterniond polar_rotation(const Eigen::Matrix3d& F, const Eigen::Quatern
 }
 
 Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& F, const Eigen::Matrix3d& guess) {
-  return polar_rotation(F, Eigen::Quaterniond(guess), 1e-14).toRotationMatrix();
+  Eigen::Matrix3d R;
+  polar_rotation(F, Eigen::Quaterniond(guess), 1e-14, &R);
+  return R;
 }
 
 Eigen::Matrix3d polar_rotation_svd(const Eigen::Matrix3d& F) {

@@ -26,6 +26,19 @@ Eigen::Matrix3d random_rotation(std::mt19937& rng) {
   return q.toRotationMatrix();
 }
 
+// A deformation gradient F = Q (I + H) with a random rotation Q and the entries of H uniform in
+// [-0.2, 0.2] (large strains, so the polar iteration has work to do).
+struct RandomDeformation {
+  Eigen::Matrix3d Q, F;
+};
+RandomDeformation random_deformation(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-0.2, 0.2);
+  const Eigen::Matrix3d Q = random_rotation(rng);
+  Eigen::Matrix3d H;
+  for (int i = 0; i < 9; ++i) H(i) = u(rng);
+  return {Q, Q * (Eigen::Matrix3d::Identity() + H)};
+}
+
 // Current positions: x = Q (I + H) X + c with strain-like perturbation H (|H| ~ strain).
 std::array<Eigen::Vector3d, 4> deform(const std::array<Eigen::Vector3d, 4>& X, const Eigen::Matrix3d& Q,
                                       const Eigen::Matrix3d& H, const Eigen::Vector3d& c) {
@@ -67,12 +80,8 @@ TEST(CorotationalTet, RestDataAndStiffnessNullSpace) {
 
 TEST(CorotationalTet, PolarRotationMatchesSvd) {
   std::mt19937 rng(3);
-  std::uniform_real_distribution<double> u(-0.2, 0.2);
   for (int trial = 0; trial < 50; ++trial) {
-    const Eigen::Matrix3d Q = random_rotation(rng);
-    Eigen::Matrix3d H;
-    for (int i = 0; i < 9; ++i) H(i) = u(rng);
-    const Eigen::Matrix3d F = Q * (Eigen::Matrix3d::Identity() + H);
+    const auto [Q, F] = random_deformation(rng);
     // Cold start (identity) and a warm start near the answer must both reach the polar factor.
     const Eigen::Matrix3d ref = polar_rotation_svd(F);
     EXPECT_LT((polar_rotation(F, Eigen::Matrix3d::Identity()) - ref).norm(), 1e-9);
@@ -88,12 +97,8 @@ TEST(CorotationalTet, PolarRotationMatchesSvd) {
 // cold start, the warm start, the tight and the loose tolerance, and a guess that is already exact.
 TEST(CorotationalTet, PolarRotationMatrixOutIsItsQuaternionsMatrix) {
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(-0.2, 0.2);
   for (int trial = 0; trial < 50; ++trial) {
-    const Eigen::Matrix3d Q = random_rotation(rng);
-    Eigen::Matrix3d H;
-    for (int i = 0; i < 9; ++i) H(i) = u(rng);
-    const Eigen::Matrix3d F = Q * (Eigen::Matrix3d::Identity() + H);
+    const auto [Q, F] = random_deformation(rng);
     const Eigen::Quaterniond exact(polar_rotation_svd(F));
     for (const Eigen::Quaterniond& guess : {Eigen::Quaterniond::Identity(), Eigen::Quaterniond(Q), exact})
       for (double tol : {1e-14, 1e-6}) {
