@@ -10,6 +10,7 @@
 
 #include "fem/cholmod_factor.hpp"
 #include "fem/contact.hpp"
+#include "fem/corotated_batch.hpp"
 #include "fem/pressure.hpp"
 #include "fem/system_matrix.hpp"
 
@@ -57,6 +58,10 @@ struct Simulator::Impl {
   double omega_last = 0.0;   // base angular velocity of the last step [rad/s]   // f: total force at x from the last force pass (µN)
   std::vector<Eigen::Matrix3d> rot;      // per tet: polar rotation at x
   std::vector<Eigen::Quaterniond> qrot;  // the same as unit quaternions (warm starts)
+  // The elastic stiffness product over all elements, vectorised across them; holds its own
+  // copy of rot (set per element by force_pass; `batch_stale` when rot was replaced wholesale).
+  CorotatedBatch batch;
+  bool batch_stale = true;
   std::vector<Eigen::Matrix3d> fibre_kt;  // per fibre spring: tangent at x (last force pass)
   double t = 0.0;
   double theta = 0.0, theta_from = 0.0, theta_to = 0.0;
@@ -107,6 +112,7 @@ struct Simulator::Impl {
     mu = model->material.lame_mu();
     lambda = model->material.lame_lambda();
     A.emplace(*model, free_index);
+    batch = CorotatedBatch(model->mesh.tets, model->rest, mu, lambda);
     reset();
   }
 
@@ -122,6 +128,7 @@ struct Simulator::Impl {
     f = Eigen::VectorXd::Zero(3 * n);
     rot.assign(model->mesh.tets.size(), G);
     qrot.assign(model->mesh.tets.size(), Eigen::Quaterniond(G));
+    batch_stale = true;
     t = 0.0;
     theta = theta_from = theta_to = 0.0;
     ramp_total = ramp_done = 0;
@@ -150,32 +157,13 @@ struct Simulator::Impl {
                         double rotation_tolerance = 1e-14) {
     ff.setZero(3 * n);
     if (u) ku->setZero(3 * n);
-    const auto& tets = model->mesh.tets;
-    for (std::size_t e = 0; e < tets.size(); ++e) {
-      const Tet& tt = tets[e];
-      const std::array<Eigen::Vector3d, 4> xe{xx.segment<3>(3 * tt[0]), xx.segment<3>(3 * tt[1]),
-                                              xx.segment<3>(3 * tt[2]), xx.segment<3>(3 * tt[3])};
-      const Eigen::Matrix3d F = deformation_gradient(model->rest[e], xe);
-      const double J = F.determinant();
-      if (!(J > 0.0)) {
-        why = std::isfinite(J) ? "inverted element " + std::to_string(e) + " (det F = " + std::to_string(J) + ")"
-                               : "non-finite deformation in element " + std::to_string(e);
-        return std::isfinite(J) ? StepStatus::InvertedElement : StepStatus::NonFinite;
-      }
-      qrot[e] = polar_rotation(F, qrot[e], rotation_tolerance, &rot[e]);
-      if (u) {  // force and K_e u_e in one pass while the element is in cache
-        Vec12 ue, fe, ye;
-        for (int a = 0; a < 4; ++a) ue.segment<3>(3 * a) = u->segment<3>(3 * tt[a]);
-        corotated_force_and_product(model->rest[e], F, rot[e], ue, mu, lambda, fe, ye);
-        for (int a = 0; a < 4; ++a) {
-          ff.segment<3>(3 * tt[a]) += fe.segment<3>(3 * a);
-          ku->segment<3>(3 * tt[a]) += ye.segment<3>(3 * a);
-        }
-      } else {
-        const Vec12 fe = corotated_force(model->rest[e], F, rot[e], mu, lambda);
-        for (int a = 0; a < 4; ++a) ff.segment<3>(3 * tt[a]) += fe.segment<3>(3 * a);
-      }
+    double J = 0.0;
+    if (const int e = batch.elastic_pass(xx, rotation_tolerance, qrot, rot, ff, u, ku, &J); e >= 0) {
+      why = std::isfinite(J) ? "inverted element " + std::to_string(e) + " (det F = " + std::to_string(J) + ")"
+                             : "non-finite deformation in element " + std::to_string(e);
+      return std::isfinite(J) ? StepStatus::InvertedElement : StepStatus::NonFinite;
     }
+    batch_stale = false;  // the pass gave the batch every element's new rotation
     fibre_kt.resize(model->fibres.size());
     for (std::size_t q = 0; q < model->fibres.size(); ++q) {
       const FibreSpring& s = model->fibres[q];
@@ -200,16 +188,13 @@ struct Simulator::Impl {
   }
 
   // y = K(x) u (co-rotated elastic + fibre tangents), all DOFs.
-  void apply_K(const Eigen::VectorXd& u, Eigen::VectorXd& y) const {
+  void apply_K(const Eigen::VectorXd& u, Eigen::VectorXd& y) {
     y.setZero(3 * n);
-    const auto& tets = model->mesh.tets;
-    for (std::size_t e = 0; e < tets.size(); ++e) {
-      const Tet& tt = tets[e];
-      Vec12 ue;
-      for (int a = 0; a < 4; ++a) ue.segment<3>(3 * a) = u.segment<3>(3 * tt[a]);
-      const Vec12 ye = corotated_stiffness_times(model->rest[e], rot[e], ue, mu, lambda);
-      for (int a = 0; a < 4; ++a) y.segment<3>(3 * tt[a]) += ye.segment<3>(3 * a);
+    if (batch_stale) {
+      for (std::size_t e = 0; e < rot.size(); ++e) batch.set_rotation(static_cast<int>(e), rot[e]);
+      batch_stale = false;
     }
+    batch.add_stiffness_times(u, y);
     add_fibre_K(u, y);
   }
 
@@ -229,7 +214,7 @@ struct Simulator::Impl {
   }
 
   // y = A u with A = c_m M + c_k K(x), all DOFs.
-  void apply_A(const Eigen::VectorXd& u, double c_m, double c_k, Eigen::VectorXd& y) const {
+  void apply_A(const Eigen::VectorXd& u, double c_m, double c_k, Eigen::VectorXd& y) {
     apply_K(u, y);
     y *= c_k;
     for (int i = 0; i < n; ++i) y.segment<3>(3 * i) += c_m * model->lumped_mass[i] * u.segment<3>(3 * i);
@@ -490,6 +475,7 @@ struct Simulator::Impl {
       x = xs;
       rot = rs;
       qrot = qs;
+      batch_stale = true;
       if (!ok) return fail(StepStatus::SolverFailure, "CHOLMOD factorisation of the reference matrix failed");
       res.refactorised = true;
     }
@@ -734,6 +720,7 @@ StepResult Simulator::restore(const Snapshot& snapshot) {
   m.x = d.x, m.v = d.v, m.f = d.f, m.v_prev = d.v_prev;
   m.omega_last = d.omega_last;
   m.rot = d.rot, m.qrot = d.qrot, m.fibre_kt = d.fibre_kt;
+  m.batch_stale = true;
   m.t = d.t, m.theta = d.theta, m.theta_from = d.theta_from, m.theta_to = d.theta_to;
   m.ramp_total = d.ramp_total, m.ramp_done = d.ramp_done;
   m.pressures_Pa = d.pressures_Pa;
@@ -818,6 +805,7 @@ Eigen::Vector3d Simulator::base_reaction() const {
   m.force_pass(m.x, ff, why);  // the caches (rotations, fibre tangents) stay those of the step
   m.rot = keep;
   m.qrot = keepq;
+  m.batch_stale = true;
   m.fibre_kt = keepk;
   Eigen::Vector3d r = Eigen::Vector3d::Zero();
   for (int b : m.model->base_nodes) r -= ff.segment<3>(3 * b);
