@@ -239,7 +239,7 @@ struct Simulator::Impl {
     coefficients(dt, c_m, c_k);
     assemble_system(*model, free_index, rot, x, c_m, c_k, *A);
     if (!exact_analysed) {
-      exact_factor.analyse(A->dofs(), A->colptr(), A->rowind());
+      exact_factor.analyse(A->dofs(), A->colptr(), A->rowind(), 3);
       exact_analysed = true;
     }
     ++factorisations;
@@ -250,7 +250,7 @@ struct Simulator::Impl {
     double c_m, c_k;
     coefficients(dt, c_m, c_k);
     assemble_system(*model, free_index, rot, x, c_m, c_k, *A);
-    if (!ref.factor.size()) ref.factor.analyse(A->dofs(), A->colptr(), A->rowind());
+    if (!ref.factor.size()) ref.factor.analyse(A->dofs(), A->colptr(), A->rowind(), 3);
     ++factorisations;
     ref.valid = ref.factor.factorise(A->values());
     if (!ref.valid) return false;
