@@ -1,9 +1,11 @@
 #pragma once
-// The co-rotated elastic stiffness product y += K(R) u over all tetrahedra of a mesh, with the
-// element data stored lane by lane (kLanes elements per group, structure of arrays), so that
-// the compiler vectorises across elements instead of inside one element's 3×3 algebra.
-// Same arithmetic as corotated_stiffness_times() per element (tests/fem compare the two); only
-// the order in which element contributions are added into y may differ from an element loop.
+// The element loops of the co-rotational tetrahedron over a whole mesh: the force pass (F, polar
+// rotation, elastic force, K(R) u) and the stiffness product y += K(R) u. Element data are
+// stored lane by lane (kLanes elements per group, structure of arrays), so the compiler
+// vectorises across elements instead of inside one element's 3×3 algebra.
+// The same quantities as deformation_gradient(), polar_rotation(), corotated_force() and
+// corotated_stiffness_times() element by element, in another order of operations
+// (tests/fem/corotated_batch_test.cpp compares them).
 #include <vector>
 
 #include <Eigen/Core>
