@@ -88,6 +88,11 @@ int run_bench_codesign(const BenchCodesignOptions& o) {
   std::printf("  projected from CPU time (as on %zu idle cores): %.2f s per iteration, %.1f min   (goal 45 min: %s)\n",
               threads, cpu_per_iter, iters_total * cpu_per_iter / 60.0,
               iters_total * cpu_per_iter <= 45.0 * 60.0 ? "met" : "NOT met");
+  std::printf("  (both projections repeat these iterations of a new policy, whose episodes last %.1f of %d decisions,\n"
+              "   each beginning with a settle or restore; in a training run episodes grow to the full length, so\n"
+              "   the run takes less than projected: time the run itself, docs/codesign.md \"Speed\")\n",
+              static_cast<double>(decisions) / std::max<std::int64_t>(1, episodes),
+              lc.task.episode_steps / std::max(1, lc.task.action_hold_steps));
   return 0;
 }
 
