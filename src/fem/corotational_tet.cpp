@@ -164,21 +164,4 @@ Vec12 corotated_stiffness_times(const TetRest& rest, const Eigen::Matrix3d& R, c
   return y;
 }
 
-void corotated_force_and_product(const TetRest& rest, const Eigen::Matrix3d& F, const Eigen::Matrix3d& R,
-                                 const Vec12& u, double mu, double lambda, Vec12& force, Vec12& product) {
-  const Eigen::Matrix3d S = R.transpose() * F;
-  const Eigen::Matrix3d eps = 0.5 * (S + S.transpose()) - Eigen::Matrix3d::Identity();
-  Eigen::Matrix3d dF = Eigen::Matrix3d::Zero();
-  for (int a = 0; a < 4; ++a) dF.noalias() += u.segment<3>(3 * a) * rest.grad.row(a);
-  const Eigen::Matrix3d L = R.transpose() * dF;
-  const Eigen::Matrix3d deps = 0.5 * (L + L.transpose());
-  const Eigen::Matrix3d Pf = (-rest.volume) * (R * stress(eps, mu, lambda));
-  const Eigen::Matrix3d Pu = rest.volume * (R * stress(deps, mu, lambda));
-  for (int a = 0; a < 4; ++a) {
-    const Eigen::Vector3d g = rest.grad.row(a).transpose();
-    force.segment<3>(3 * a) = Pf * g;
-    product.segment<3>(3 * a) = Pu * g;
-  }
-}
-
 }  // namespace codesign::fem

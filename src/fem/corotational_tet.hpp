@@ -65,8 +65,4 @@ Mat12 corotated_stiffness(const Mat12& k0, const Eigen::Matrix3d& R);
 Vec12 corotated_stiffness_times(const TetRest& rest, const Eigen::Matrix3d& R, const Vec12& u,
                                 double mu, double lambda);
 
-// corotated_force and corotated_stiffness_times in one pass (shares R, ∇N and the scatter).
-void corotated_force_and_product(const TetRest& rest, const Eigen::Matrix3d& F, const Eigen::Matrix3d& R,
-                                 const Vec12& u, double mu, double lambda, Vec12& force, Vec12& product);
-
 }  // namespace codesign::fem

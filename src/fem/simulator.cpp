@@ -58,8 +58,8 @@ struct Simulator::Impl {
   double omega_last = 0.0;   // base angular velocity of the last step [rad/s]
   std::vector<Eigen::Matrix3d> rot;      // per tet: polar rotation at x
   std::vector<Eigen::Quaterniond> qrot;  // the same as unit quaternions (warm starts)
-  // The elastic stiffness product over all elements, vectorised across them; holds its own
-  // copy of rot (set per element by force_pass; `batch_stale` when rot was replaced wholesale).
+  // The element loops (force pass, K·u), vectorised across elements; holds its own copy of
+  // rot, written by each force pass (`batch_stale` when rot was replaced otherwise).
   CorotatedBatch batch;
   bool batch_stale = true;
   std::vector<Eigen::Matrix3d> fibre_kt;  // per fibre spring: tangent at x (last force pass)
