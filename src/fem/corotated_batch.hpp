@@ -22,7 +22,6 @@ class CorotatedBatch {
   CorotatedBatch() = default;
   CorotatedBatch(const std::vector<Tet>& tets, const std::vector<TetRest>& rest, double mu, double lambda);
 
-  int element_count() const { return elements_; }
   // The rotation of element e (as the force pass computes it).
   void set_rotation(int e, const Eigen::Matrix3d& R) {
     const int b = e / kLanes, l = e % kLanes;
