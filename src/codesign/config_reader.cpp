@@ -29,6 +29,7 @@ TaskConfig read_task_config(io::TableReader& root) {
   c.observation = obs == "proprioceptive" ? ObservationSet::Proprioceptive
                   : obs == "no_feedback"  ? ObservationSet::NoFeedback
                                           : ObservationSet::Paper;
+  c.history = static_cast<int>(t.integer("history", c.history, 0, c.episode_steps / c.action_hold_steps - 1));
   c.strain_min = t.number("strain_min", c.strain_min, -1.0, 1.0);
   c.strain_max = t.number("strain_max", c.strain_max, -1.0, 1.0);
   if (!(c.strain_max > c.strain_min))

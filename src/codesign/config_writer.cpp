@@ -18,6 +18,9 @@ void write_task_table(std::ostream& out, const TaskConfig& c) {
   t.number("smooth_penalty", c.smooth_penalty);
   t.number("flip_penalty", c.flip_penalty);
   t.string("observation", to_string(c.observation));
+  // Written only when set, so that the config.toml (and the checkpoint fingerprint) of a run
+  // without history is what it was before the key existed: such runs still resume.
+  if (c.history != 0) t.integer("history", c.history);
   t.number("strain_min", c.strain_min);
   t.number("strain_max", c.strain_max);
   t.string("strain_offset", to_string(c.strain_offset));

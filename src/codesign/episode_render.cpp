@@ -287,11 +287,12 @@ std::optional<EpisodeSetup> result_design(const fs::path& run_dir, const std::st
 
 Controller policy_controller(const fs::path& policy_file, const TaskConfig& task) {
   auto policy = std::make_shared<const rl::Policy>(rl::Policy::load(policy_file));
-  if (policy->obs_dim() != observation_dim(task.observation) || policy->act_dim() != 1)
+  if (policy->obs_dim() != observation_dim(task) || policy->act_dim() != 1)
     throw InputError(policy_file.string() + ": the policy takes " + std::to_string(policy->obs_dim()) +
                      " observations and gives " + std::to_string(policy->act_dim()) + " actions; the task's \"" +
-                     to_string(task.observation) + "\" observation has " +
-                     std::to_string(observation_dim(task.observation)) + " and 1 action");
+                     to_string(task.observation) + "\" observation with history " +
+                     std::to_string(task.history) + " has " +
+                     std::to_string(observation_dim(task)) + " and 1 action");
   return [policy](const Eigen::VectorXd& obs) { return policy->act_deterministic(obs)[0]; };
 }
 

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "fem/design.hpp"
-#include "rl/trainer.hpp"
+#include "rl/rollout.hpp"
 
 namespace codesign::coopt {
 
@@ -97,67 +97,41 @@ IterationReport OuterLoop::iterate() {
   IterationReport rep;
   rep.k = k_;
   rep.phase = distribution_.phase(t_);
-  inference_.weights_changed();
   const auto t_collect = std::chrono::steady_clock::now();
   std::vector<EpisodeSetup> setups;
   rep.samples = sample_designs(setups);
   const auto n = static_cast<Eigen::Index>(envs_->size());
-  const double gamma = config_.ppo.gamma;
   Eigen::MatrixXd obs = envs_->start(setups);
-  buffer_.reset();
   Eigen::RowVectorXf episode_starts = Eigen::RowVectorXf::Ones(n);
-  Eigen::RowVectorXf dones = Eigen::RowVectorXf::Zero(n);
-  Eigen::RowVectorXf rewards(n);
   std::vector<double> running(n, 0.0);
   std::vector<int> length(n, 0);
   std::vector<char> first_done(n, 0);
-  const rl::BoxSpec& bounds = envs_->spec().action;
-  for (int step = 0; step < config_.ppo.n_steps; ++step) {
-    const bool last = step + 1 == config_.ppo.n_steps;
-    const Eigen::MatrixXf obs_f = obs.cast<float>();
-    const auto t_pol = std::chrono::steady_clock::now();
-    rl::ActorCritic::ActResult act = model_.act(obs_f, act_rng_, inference_);
-    rep.policy_s += seconds_since(t_pol);
-    const rl::VecStepResult& r = envs_->step(rl::clip_actions(act.actions.cast<double>(), bounds), !last);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const auto iu = static_cast<std::size_t>(i);
-      double reward = r.rewards(i);
-      running[iu] += reward;
-      length[iu] += 1;
-      const bool done = r.done(iu);
-      dones(i) = done ? 1.0f : 0.0f;
-      if (done || last) {
-        EpisodeRecord e;
-        e.env = static_cast<int>(i);
-        e.setup = setups[iu];
-        e.episode_return = running[iu];
-        e.decisions = length[iu];
-        e.in_band = done ? envs_->last_in_band(iu) : -1;
-        e.reason = done ? r.reasons[iu] : "rollout_end";
-        e.first = !first_done[iu];
-        first_done[iu] = 1;
-        rep.episodes.push_back(std::move(e));
-        running[iu] = 0.0;
-        length[iu] = 0;
-      }
-      if (done && r.truncated[iu] && !r.terminated[iu] && r.terminal_obs[iu]) {
-        const auto t_pol2 = std::chrono::steady_clock::now();
-        const Eigen::MatrixXf terminal = r.terminal_obs[iu]->cast<float>();
-        reward += gamma * static_cast<double>(model_.value(terminal, inference_)(0));
-        rep.policy_s += seconds_since(t_pol2);
-      }
-      rewards(i) = static_cast<float>(reward);
-    }
-    buffer_.add(obs_f, act.actions, rewards, episode_starts, act.values, act.log_probs);
-    obs = r.obs;
-    episode_starts = dones;
-  }
-  {
-    const auto t_pol = std::chrono::steady_clock::now();
-    const Eigen::MatrixXf last_obs = obs.cast<float>();
-    buffer_.compute_returns_and_advantage(model_.value(last_obs, inference_), dones, gamma, config_.ppo.gae_lambda);
-    rep.policy_s += seconds_since(t_pol);
-  }
+  const int n_steps = config_.ppo.n_steps;
+  const rl::RolloutStep step = [this](const Eigen::MatrixXd& actions, bool last) -> const rl::VecStepResult& {
+    return envs_->step(actions, !last);
+  };
+  const rl::RolloutObserver observe = [&](int k, std::size_t i, const rl::VecStepResult& r) {
+    running[i] += r.rewards(static_cast<Eigen::Index>(i));
+    length[i] += 1;
+    const bool done = r.done(i);
+    if (!done && k + 1 < n_steps) return;
+    EpisodeRecord e;
+    e.env = static_cast<int>(i);
+    e.setup = setups[i];
+    e.episode_return = running[i];
+    e.decisions = length[i];
+    e.in_band = done ? envs_->last_in_band(i) : -1;
+    e.reason = done ? r.reasons[i] : "rollout_end";
+    e.first = !first_done[i];
+    first_done[i] = 1;
+    rep.episodes.push_back(std::move(e));
+    running[i] = 0.0;
+    length[i] = 0;
+  };
+  const rl::RolloutOptions options{n_steps, config_.ppo.gamma, config_.ppo.gae_lambda};
+  rl::MlpPolicy policy(model_);
+  rep.policy_s = rl::collect_rollout(policy, step, envs_->spec().action, options, obs, episode_starts, buffer_,
+                                     act_rng_, observe).policy_s;
   t_ += static_cast<std::int64_t>(n) * config_.ppo.n_steps;
   rep.collect_s = seconds_since(t_collect);
 
@@ -226,7 +200,6 @@ void OuterLoop::restore(const LoopState& s) {
   distribution_ = std::move(dist);
   k_ = s.k;
   t_ = s.t;
-  inference_.weights_changed();
 }
 
 }  // namespace codesign::coopt

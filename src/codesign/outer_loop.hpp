@@ -7,7 +7,7 @@
 //   2. deploy: one episode per environment, n_steps = decisions per episode (an environment whose
 //      episode ends early restarts with the same design until the rollout is full), storing the
 //      transitions in the rollout buffer with SB3's semantics (unclipped actions, timeout
-//      bootstrapping), then GAE;
+//      bootstrapping), then GAE: rl::collect_rollout (rl/rollout.hpp), the gym trainer's loop;
 //   3. one PPO update on the ψ × n_steps transitions;
 //   4. the return of each environment's first episode, R_{d_i}, feeds Algorithm 2;
 //   5. t += ψ · n_steps, k += 1.
@@ -112,7 +112,6 @@ class OuterLoop {
   rl::Adam optimizer_;
   rl::RolloutBuffer buffer_;
   rl::Rng act_rng_, update_rng_, design_rng_;
-  rl::ActorCritic::InferenceCache inference_;
   DesignDistribution distribution_;
   int k_ = 0;
   std::int64_t t_ = 0;

@@ -81,6 +81,13 @@ struct TaskConfig {
   // The episode ends early when fem::Sensors::theta_extreme is set, i.e. |θ| beyond the scene's
   // fem::SceneConfig::theta_limit_deg ([scene] theta_limit_deg): one limit, stated there.
   ObservationSet observation = ObservationSet::Paper;
+  // Memory by stacking (ours, issue 17): the last `history` decisions' time-varying observation
+  // components (ε, and θ where observed) and their actions appended to the observation, in
+  // [0, decisions per episode − 1]; 0 (the default, the paper's) appends nothing. With
+  // history = decisions − 1 the observation holds the whole episode so far, so θ (the sum of the
+  // policy's own actions) and the sum of past errors (a PI's integral) are linear functions of it.
+  // whisker_env.hpp states the layout and the padding before the episode's first decision.
+  int history = 0;
   // Reference range of ε for the observation's min–max scaling, measured by `codesign survey`
   // over all 110 designs, the pressure corners and θ0 ∈ {−θ_max, 0, θ_max}: ε ∈ [−0.000288,
   // 0.04166], widened by 10 % each side (docs/codesign.md).

@@ -20,8 +20,8 @@ double scaled(double x, double lo, double hi) {
   return std::clamp(s, -kObservationClip, kObservationClip);
 }
 
-rl::EnvSpec make_spec(ObservationSet set) {
-  const auto n = static_cast<Eigen::Index>(observation_dim(set));
+rl::EnvSpec make_spec(const TaskConfig& task) {
+  const auto n = static_cast<Eigen::Index>(observation_dim(task));
   rl::EnvSpec s;
   s.observation.low = Eigen::VectorXd::Constant(n, -kObservationClip);
   s.observation.high = Eigen::VectorXd::Constant(n, kObservationClip);
@@ -57,7 +57,9 @@ bool in_band(double force_mN, const TaskConfig& task) {
   return std::abs(force_mN - task.target_force_mN) < task.tolerance_fraction * task.target_force_mN;
 }
 
-int observation_dim(ObservationSet set) {
+namespace {
+
+int set_dim(ObservationSet set) {
   switch (set) {
     case ObservationSet::Paper: return 6;
     case ObservationSet::Proprioceptive: return 7;
@@ -66,11 +68,30 @@ int observation_dim(ObservationSet set) {
   return 0;
 }
 
+}  // namespace
+
+int dynamic_observation_dim(ObservationSet set) {
+  switch (set) {
+    case ObservationSet::Paper: return 1;
+    case ObservationSet::Proprioceptive: return 2;
+    case ObservationSet::NoFeedback: return 0;
+  }
+  return 0;
+}
+
+int observation_dim(const TaskConfig& task) {
+  return set_dim(task.observation) + task.history * (dynamic_observation_dim(task.observation) + 1);
+}
+
 WhiskerEnv::WhiskerEnv(std::shared_ptr<SimulatorPool> pool, const TaskConfig& task)
-    : pool_(std::move(pool)), task_(task), spec_(make_spec(task.observation)) {
+    : pool_(std::move(pool)), task_(task), spec_(make_spec(task)) {
   if (!pool_) throw std::invalid_argument("WhiskerEnv: no simulator pool");
   if (task_.episode_steps % task_.action_hold_steps != 0)
     throw std::invalid_argument("WhiskerEnv: action_hold_steps must divide episode_steps");
+  if (task_.history < 0 || task_.history >= decisions_per_episode())
+    throw std::invalid_argument("WhiskerEnv: history must lie in [0, decisions per episode - 1]");
+  history_obs_ = Eigen::VectorXd::Zero(task_.history * dynamic_observation_dim(task_.observation));
+  history_actions_ = Eigen::VectorXd::Zero(task_.history);
 }
 
 WhiskerEnv::~WhiskerEnv() {
@@ -120,7 +141,31 @@ Eigen::VectorXd WhiskerEnv::reset(std::optional<std::uint64_t> /*seed*/) {
   settle_s_ += thread_cpu_seconds() - t0;
   reset_failure_ = r.ok() ? std::string() : std::string(fem::to_string(r.status)) + ": " + r.reason;
   if (recording_ && r.ok()) record(0.0);
+  clear_history();
   return observe();
+}
+
+void WhiskerEnv::clear_history() {
+  if (task_.history == 0) return;
+  const Eigen::VectorXd now = current_observation();
+  const int dyn = dynamic_observation_dim(task_.observation);
+  const int first = static_cast<int>(now.size()) - dyn;  // the dynamic components come last
+  for (int c = 0; c < dyn; ++c) history_obs_.segment(c * task_.history, task_.history).setConstant(now[first + c]);
+  history_actions_.setZero();
+}
+
+void WhiskerEnv::push_history(const Eigen::VectorXd& seen, double a) {
+  const int k = task_.history;
+  if (k == 0) return;
+  const int dyn = dynamic_observation_dim(task_.observation);
+  const int first = static_cast<int>(seen.size()) - dyn;
+  for (int c = 0; c < dyn; ++c) {
+    auto slots = history_obs_.segment(c * k, k);
+    for (int i = k - 1; i > 0; --i) slots[i] = slots[i - 1];
+    slots[0] = seen[first + c];
+  }
+  for (int i = k - 1; i > 0; --i) history_actions_[i] = history_actions_[i - 1];
+  history_actions_[0] = a;
 }
 
 fem::StepResult WhiskerEnv::update_strain_zero() {
@@ -149,12 +194,21 @@ fem::StepResult WhiskerEnv::update_strain_zero() {
 }
 
 Eigen::VectorXd WhiskerEnv::observe() const {
+  if (task_.history == 0) return current_observation();
+  Eigen::VectorXd o(observation_dim(task_));
+  const Eigen::VectorXd now = current_observation();
+  o << now, history_obs_, history_actions_;
+  if (!o.allFinite()) o.setZero();
+  return o;
+}
+
+Eigen::VectorXd WhiskerEnv::current_observation() const {
   const fem::Design d = fem::design_from_index(setup_.design);
   const std::array<double, 3> j = fem::normalised(d);
   const fem::Sensors s = sim_->sensors();
   const double pmax = task_.pressure_max_kPa;
   const double p2 = d.n >= 2 ? setup_.p2_kPa : 0.0;
-  Eigen::VectorXd o(observation_dim(task_.observation));
+  Eigen::VectorXd o(set_dim(task_.observation));
   switch (task_.observation) {
     case ObservationSet::NoFeedback:
       o << scaled(setup_.p1_kPa, 0.0, pmax), scaled(p2, 0.0, pmax);
@@ -190,6 +244,7 @@ rl::StepResult WhiskerEnv::step(const Eigen::VectorXd& action) {
     return out;
   }
   const double a = std::isfinite(action[0]) ? std::clamp(action[0], -1.0, 1.0) : 0.0;
+  if (task_.history > 0) push_history(current_observation(), a);
   const double dtheta = a * task_.theta_max_rad;
   const int hold = task_.action_hold_steps;
   sim_->set_base_angle_target(sim_->theta() + dtheta, hold);

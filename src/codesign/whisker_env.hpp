@@ -19,6 +19,14 @@
 //   paper          {n, l, w, p1, p2, ε}        (6)  the paper's s = {j, p, ε}
 //   proprioceptive {n, l, w, p1, p2, ε, θ}     (7)  ours: the motor encoder's θ added
 //   no_feedback    {p1, p2}                    (2)  the paper's baseline: ε and morphology removed
+// TaskConfig::history = k > 0 appends, after those, the time-varying components of the last k
+// decisions' observations, component by component and newest first, then their k actions (the
+// clipped actions applied, newest first):
+//   paper          ε_{t−1} … ε_{t−k}, a_{t−1} … a_{t−k}                          (+2k)
+//   proprioceptive ε_{t−1} … ε_{t−k}, θ_{t−1} … θ_{t−k}, a_{t−1} … a_{t−k}        (+3k)
+//   no_feedback    a_{t−1} … a_{t−k}                                              (+k)
+// Slots before the episode's first decision hold the episode's first observation (ε, θ after
+// settling) and action 0, so that a constant input reads as "no change yet".
 // With TaskConfig::strain_offset = Inflated the ε component is ε − ε₀ (task_config.hpp): ε₀ comes
 // from a settle of the same design and pressures with the plate out of reach, once per
 // (design, pressures) on this environment.
@@ -77,8 +85,10 @@ inline TraceRow trace_row(const fem::Sensors& s, int decision, double action, do
 double force_reward(double force_mN, const TaskConfig& task);
 // Whether F lies inside the ±tolerance band around the target.
 bool in_band(double force_mN, const TaskConfig& task);
-// Dimension of an observation set.
-int observation_dim(ObservationSet set);
+// Dimension of the task's observation: its set's components, plus the history's (above).
+int observation_dim(const TaskConfig& task);
+// Time-varying components of an observation set (ε; θ where observed).
+int dynamic_observation_dim(ObservationSet set);
 
 class WhiskerEnv final : public rl::Env {
  public:
@@ -112,7 +122,13 @@ class WhiskerEnv final : public rl::Env {
   const fem::Simulator& simulator() const { return *sim_; }
 
  private:
+  // The observation set's components for the present state (without the history).
+  Eigen::VectorXd current_observation() const;
   Eigen::VectorXd observe() const;
+  // Fills the history with the present observation and action 0 (episode start).
+  void clear_history();
+  // Shifts the history by one decision: `seen` was observed before the action `a` was applied.
+  void push_history(const Eigen::VectorXd& seen, double a);
   void record(double action);
   // Computes ε₀ for the current setup if strain_offset = Inflated and it is not known yet
   // (leaves the simulator in a state that needs reset()).
@@ -138,6 +154,9 @@ class WhiskerEnv final : public rl::Env {
   int decision_ = 0;
   int in_band_ = 0;
   double last_dtheta_ = 0.0;
+  // TaskConfig::history: dynamic components (dynamic_observation_dim × history, newest first per
+  // component) and actions (newest first).
+  Eigen::VectorXd history_obs_, history_actions_;
   bool recording_ = false;
   double settle_s_ = 0.0, step_s_ = 0.0;
   std::vector<TraceRow> trace_;

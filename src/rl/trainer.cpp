@@ -31,15 +31,6 @@ const TrainerConfig& checked(const TrainerConfig& c) {
 
 }  // namespace
 
-Eigen::MatrixXd clip_actions(const Eigen::MatrixXd& actions, const BoxSpec& bounds) {
-  // Scalar loop: Eigen's AVX-512 cwiseMax/cwiseMin trip GCC 12's -Wmaybe-uninitialized.
-  Eigen::MatrixXd out(actions.rows(), actions.cols());
-  for (Eigen::Index j = 0; j < actions.cols(); ++j)
-    for (Eigen::Index i = 0; i < actions.rows(); ++i)
-      out(i, j) = std::clamp(actions(i, j), bounds.low(i), bounds.high(i));
-  return out;
-}
-
 Trainer::Trainer(const EnvFactory& factory, const TrainerConfig& config)
     : config_(checked(config)),
       venv_(factory, static_cast<std::size_t>(config.n_envs), config.seed, config.n_threads),
@@ -65,49 +56,27 @@ Trainer::Trainer(const EnvFactory& factory, const TrainerConfig& config)
 }
 
 void Trainer::collect_rollouts() {
-  inference_.weights_changed();  // the parameters were updated since the last rollout
   const auto t0 = std::chrono::steady_clock::now();
-  const double gamma = config_.ppo.gamma;
-  const auto n = static_cast<Eigen::Index>(config_.n_envs);
-  buffer_.reset();
-  Eigen::RowVectorXf rewards(n);
-  Eigen::RowVectorXf dones(n);
-  for (int step = 0; step < config_.ppo.n_steps; ++step) {
-    const Eigen::MatrixXf obs = last_obs_.cast<float>();
-    ActorCritic::ActResult act = model_.act(obs, act_rng_, inference_);
-    const VecStepResult& r =
-        venv_.step(clip_actions(act.actions.cast<double>(), venv_.spec().action));
-    num_timesteps_ += n;
-
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const auto iu = static_cast<std::size_t>(i);
-      double reward = r.rewards(i);
-      running_return_[iu] += reward;
-      running_length_[iu] += 1;
-      dones(i) = r.done(iu) ? 1.0f : 0.0f;
-      if (!r.done(iu)) {
-        rewards(i) = static_cast<float>(reward);
-        continue;
-      }
-      recent_.push_back({running_return_[iu], running_length_[iu], num_timesteps_});
-      if (recent_.size() > config_.stats_window) recent_.pop_front();
-      ++num_episodes_;
-      running_return_[iu] = 0.0;
-      running_length_[iu] = 0;
-      if (r.truncated[iu] && !r.terminated[iu] && r.terminal_obs[iu]) {
-        const Eigen::MatrixXf terminal = r.terminal_obs[iu]->cast<float>();
-        reward += gamma * static_cast<double>(model_.value(terminal, inference_)(0));
-      }
-      rewards(i) = static_cast<float>(reward);
-    }
-    buffer_.add(obs, act.actions, rewards, last_episode_starts_, act.values, act.log_probs);
-    last_obs_ = r.obs;
-    last_episode_starts_ = dones;
-  }
+  const auto n = static_cast<std::int64_t>(config_.n_envs);
+  MlpPolicy policy(model_);
+  const RolloutStep step = [this, n](const Eigen::MatrixXd& actions, bool /*last*/) -> const VecStepResult& {
+    num_timesteps_ += n;  // VecEnv restarts finished episodes at once, the last step too
+    return venv_.step(actions);
+  };
+  const RolloutObserver observe = [this](int /*step*/, std::size_t i, const VecStepResult& r) {
+    running_return_[i] += r.rewards(static_cast<Eigen::Index>(i));
+    running_length_[i] += 1;
+    if (!r.done(i)) return;
+    recent_.push_back({running_return_[i], running_length_[i], num_timesteps_});
+    if (recent_.size() > config_.stats_window) recent_.pop_front();
+    ++num_episodes_;
+    running_return_[i] = 0.0;
+    running_length_[i] = 0;
+  };
+  const RolloutOptions options{config_.ppo.n_steps, config_.ppo.gamma, config_.ppo.gae_lambda};
+  collect_rollout(policy, step, venv_.spec().action, options, last_obs_, last_episode_starts_, buffer_, act_rng_,
+                  observe);
   last_dones_ = last_episode_starts_;
-  const Eigen::MatrixXf last_obs = last_obs_.cast<float>();
-  buffer_.compute_returns_and_advantage(model_.value(last_obs, inference_), last_dones_, gamma,
-                                        config_.ppo.gae_lambda);
   last_collect_s_ = seconds_since(t0);
 }
 

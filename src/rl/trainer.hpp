@@ -3,13 +3,8 @@
 // the learner (actor_critic, rollout_buffer, ppo) and the environments (env, vec_env).
 //
 // One iteration = collect_rollouts() + update():
-//   collect: for n_steps: (actions, values, log_probs) = model.act(obs) (float32; actions are
-//            UNCLIPPED samples); the environments step with the actions clipped to the action
-//            bounds; where an episode was truncated and not terminated,
-//            reward += gamma * V(terminal_obs) (timeout bootstrapping, V from the current model);
-//            buffer.add(obs, unclipped actions, rewards, episode_starts, values, log_probs);
-//            episode_starts = done flags of this step.
-//            Then GAE with last_values = V(obs after the last step) and dones of the last step.
+//   collect: collect_rollout() (rollout.hpp, the loop the co-design uses too) with the
+//            actor-critic as MlpPolicy; the environments continue across rollouts.
 //   update:  ppo_update (PPO.train), entropy coefficient from the timesteps collected so far.
 // Iterations repeat while num_timesteps < total_timesteps, so the total is rounded up to whole
 // rollouts (SB3 does the same): 100k steps at 4 x 1024 per rollout is 25 rollouts, 102400 steps.
@@ -36,6 +31,7 @@
 #include "rl/env.hpp"
 #include "rl/ppo.hpp"
 #include "rl/rng.hpp"
+#include "rl/rollout.hpp"
 #include "rl/rollout_buffer.hpp"
 #include "rl/vec_env.hpp"
 
@@ -102,7 +98,6 @@ class Trainer {
   Adam optimizer_;
   RolloutBuffer buffer_;
   Rng act_rng_;
-  ActorCritic::InferenceCache inference_;  // rollout forward passes, reused every step
   Rng update_rng_;
   Eigen::MatrixXd last_obs_;                // obs_dim x n_envs
   Eigen::RowVectorXf last_episode_starts_;  // 1 x n_envs
@@ -116,10 +111,6 @@ class Trainer {
   double last_collect_s_ = 0.0;
   std::chrono::steady_clock::time_point start_;
 };
-
-// Clips each action column to [low, high] (SB3 clips before env.step; the buffer keeps the
-// unclipped sample).
-Eigen::MatrixXd clip_actions(const Eigen::MatrixXd& actions, const BoxSpec& bounds);
 
 // ---- Deterministic evaluation ----
 

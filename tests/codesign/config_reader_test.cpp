@@ -44,6 +44,21 @@ TEST(ConfigReader, BaselineSwitch) {
   EXPECT_EQ(read_task_config(t).observation, ObservationSet::NoFeedback);
 }
 
+TEST(ConfigReader, HistoryIsBoundedByTheDecisionsPerEpisode) {
+  io::TableReader ok = io::TableReader::from_string("[task]\nhistory = 49\n", "run.toml");
+  EXPECT_EQ(read_task_config(ok).history, 49);
+  io::TableReader bad = io::TableReader::from_string("[task]\nhistory = 50\n", "run.toml");
+  try {
+    read_task_config(bad);
+    FAIL() << "history = 50 accepted with 50 decisions per episode";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("run.toml"), std::string::npos) << m;
+    EXPECT_NE(m.find("task.history"), std::string::npos) << m;
+    EXPECT_NE(m.find("[0, 49]"), std::string::npos) << m;
+  }
+}
+
 TEST(ConfigReader, StrainRangeMustBeOrdered) {
   EXPECT_EQ(error_of("[task]\nstrain_min = 0.1\nstrain_max = 0.05\n", true),
             "run.toml: task.strain_max: must exceed task.strain_min (0.100000)");

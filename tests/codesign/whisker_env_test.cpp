@@ -2,6 +2,8 @@
 // episodes that do not depend on what the simulator ran before.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -61,7 +63,7 @@ TEST(WhiskerEnv, ObservationLayouts) {
     WhiskerEnv env(pool(), t);
     env.set_episode({63, 5.0, 15.0, 0.0, 0.0});
     const Eigen::VectorXd o = env.reset(std::nullopt);
-    ASSERT_EQ(o.size(), coopt::observation_dim(set));
+    ASSERT_EQ(o.size(), coopt::observation_dim(t));
     // Pressures 5 and 15 of 20 kPa map to −0.5 and +0.5.
     const Eigen::Index p = set == ObservationSet::NoFeedback ? 0 : 3;
     EXPECT_NEAR(o[p], -0.5, 1e-12);
@@ -81,6 +83,62 @@ TEST(WhiskerEnv, ObservationLayouts) {
       EXPECT_NEAR(r.obs[6], 5.0 / 30.0, 1e-9);
     }
   }
+}
+
+// history = k: each set's components, then the last k decisions' time-varying components and
+// actions, newest first, padded at the start with the first observation and action 0.
+TEST(WhiskerEnv, HistoryStacksPastObservationsAndActionsNewestFirst) {
+  constexpr int k = 3;
+  TaskConfig plain;
+  plain.observation = ObservationSet::Proprioceptive;
+  TaskConfig t = plain;
+  t.history = k;
+  ASSERT_EQ(coopt::observation_dim(t), 7 + k * 3);
+  WhiskerEnv with(pool(), t), without(pool(), plain);
+  const coopt::EpisodeSetup setup{41, 10.0, 0.0, 0.0, 0.0};
+  with.set_episode(setup);
+  without.set_episode(setup);
+  std::vector<Eigen::VectorXd> seen{without.reset(std::nullopt)};
+  Eigen::VectorXd o = with.reset(std::nullopt);
+  ASSERT_EQ(o.size(), 7 + 3 * k);
+  EXPECT_EQ(o.head<7>(), seen[0]);
+  for (int i = 0; i < k; ++i) {
+    EXPECT_EQ(o[7 + i], seen[0][5]) << "epsilon slot " << i;
+    EXPECT_EQ(o[7 + k + i], seen[0][6]) << "theta slot " << i;
+    EXPECT_EQ(o[7 + 2 * k + i], 0.0) << "action slot " << i;
+  }
+  const std::vector<double> actions{0.5, -0.25, 2.0, 0.1};  // 2.0 is applied (and kept) as 1.0
+  std::vector<double> applied;
+  for (double a : actions) {
+    Eigen::VectorXd act(1);
+    act[0] = a;
+    const rl::StepResult r = with.step(act);
+    seen.push_back(without.step(act).obs);
+    applied.push_back(std::clamp(a, -1.0, 1.0));
+    o = r.obs;
+    const int d = static_cast<int>(applied.size());  // decisions taken
+    EXPECT_EQ(o.head<7>(), seen.back()) << "decision " << d;  // history does not change the episode
+    for (int i = 0; i < k; ++i) {
+      const int past = std::max(d - 1 - i, 0);  // observation seen i + 1 decisions ago (padded)
+      EXPECT_EQ(o[7 + i], seen[past][5]) << "decision " << d << " epsilon slot " << i;
+      EXPECT_EQ(o[7 + k + i], seen[past][6]) << "decision " << d << " theta slot " << i;
+      EXPECT_EQ(o[7 + 2 * k + i], d - 1 - i >= 0 ? applied[d - 1 - i] : 0.0) << "decision " << d << " action " << i;
+    }
+  }
+  // The episode restarted: the history forgets the last one.
+  o = with.reset(std::nullopt);
+  for (int i = 0; i < k; ++i) EXPECT_EQ(o[7 + 2 * k + i], 0.0);
+}
+
+TEST(WhiskerEnv, HistoryOfTheNoFeedbackSetIsActionsOnly) {
+  TaskConfig t;
+  t.observation = ObservationSet::NoFeedback;
+  t.history = 2;
+  EXPECT_EQ(coopt::observation_dim(t), 2 + 2);
+  t.observation = ObservationSet::Paper;
+  EXPECT_EQ(coopt::observation_dim(t), 6 + 2 * 2);
+  t.history = 50;  // 50 decisions per episode: at most 49 past ones
+  EXPECT_THROW(WhiskerEnv(pool(), t), std::invalid_argument);
 }
 
 TEST(WhiskerEnv, OneChamberIgnoresSecondPressure) {
