@@ -72,10 +72,11 @@ int check_policy(const CheckOptions& o) {
   if (!o.config.empty()) {
     const SimSetup s = read_sim_setup(o.config);
     const std::string pre = "policy file " + o.file + ": ";
-    const int obs = coopt::observation_dim(s.task.observation);
+    const int obs = coopt::observation_dim(s.task);
     if (p.model.obs_dim() != obs)
       throw InputError(pre + "obs_dim " + std::to_string(p.model.obs_dim()) + " differs from " + o.config +
-                       ": task.observation = \"" + coopt::to_string(s.task.observation) + "\" needs " +
+                       ": task.observation = \"" + coopt::to_string(s.task.observation) +
+                       "\" with task.history = " + std::to_string(s.task.history) + " needs " +
                        std::to_string(obs));
     if (p.model.act_dim() != 1)
       throw InputError(pre + "act_dim " + std::to_string(p.model.act_dim()) + "; the whisker task needs 1");
@@ -99,7 +100,7 @@ int check_checkpoint(const CheckOptions& o) {
   const coopt::LoopConfig lc{s.task, s.codesign, s.ppo};
   const std::uint64_t fp = coopt::fingerprint(coopt::resolved_run_config(s.spec, s.scene, s.solver, lc));
   const coopt::Checkpoint c = coopt::load_checkpoint(o.file, fp);
-  const rl::ActorCritic model(coopt::observation_dim(s.task.observation), 1, s.ppo.actor_hidden, s.ppo.critic_hidden);
+  const rl::ActorCritic model(coopt::observation_dim(s.task), 1, s.ppo.actor_hidden, s.ppo.critic_hidden);
   if (c.loop.actor.size() != model.actor().num_params() || c.loop.critic.size() != model.critic().num_params() ||
       c.loop.log_std.size() != 1)
     throw InputError("checkpoint " + o.file + ": network sizes (" + std::to_string(c.loop.actor.size()) + " actor, " +

@@ -48,7 +48,7 @@ int run_refine(const RefineCliOptions& o) {
   const std::vector<double> p =
       best.numbers("pressures_kPa", {0.0, 0.0}, 0.0, setup.task.pressure_max_kPa, 2, 2);
   const rl::Policy policy = rl::Policy::load(dir / "policy.bin");
-  const int obs_dim = coopt::observation_dim(setup.task.observation);
+  const int obs_dim = coopt::observation_dim(setup.task);
   if (policy.obs_dim() != obs_dim || policy.act_dim() != 1)
     throw InputError((dir / "policy.bin").string() + ": policy has " + std::to_string(policy.obs_dim()) +
                      " inputs and " + std::to_string(policy.act_dim()) + " outputs; the run's task needs " +
