@@ -153,17 +153,18 @@ int run_train_gym(const TrainGymOptions& opt) {
         p.iteration % cfg.checkpoint_every_iterations == 0) {
       rl::save_policy(out / "checkpoints" /
                           ("policy_" + std::to_string(p.timesteps) + ".cdspol"),
-                      trainer.model());
+                      trainer.model(), trainer.obs_normalization());
     }
   });
   const double train_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
 
   const std::uint64_t eval_seed = rl::eval_seed_first(tc.seed, cfg.eval_episodes);
-  rl::EvalResult eval = rl::evaluate(trainer.model(), factory, cfg.eval_episodes, eval_seed);
+  rl::EvalResult eval = rl::evaluate(trainer.model(), factory, cfg.eval_episodes, eval_seed, 1'000'000,
+                                    trainer.obs_normalization());
   if (cfg.save_policy) {
     const fs::path policy_path = out / "policy.cdspol";
-    rl::save_policy(policy_path, trainer.model());
+    rl::save_policy(policy_path, trainer.model(), trainer.obs_normalization());
     // The file must reproduce the evaluation exactly (same float32 weights, same arithmetic).
     const rl::Policy policy = rl::Policy::load(policy_path);
     const rl::EvalResult again = rl::evaluate(

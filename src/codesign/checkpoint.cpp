@@ -99,7 +99,10 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
   Writer w;
   w.bytes.reserve(1 << 16);
   for (const char ch : kMagic) w.pod<char>(ch);
-  w.pod<std::uint32_t>(kCheckpointVersion);
+  // Version 2 only where it adds something (observation statistics): a run without them writes
+  // the version-1 bytes it always did.
+  const bool with_obs_stats = c.loop.obs_mean.size() > 0;
+  w.pod<std::uint32_t>(with_obs_stats ? kCheckpointVersion : 1u);
   w.pod<std::uint64_t>(c.config_fingerprint);
   const LoopState& s = c.loop;
   w.pod<std::int64_t>(s.k);
@@ -131,6 +134,11 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
   w.pod<std::uint8_t>(d.collapsed ? 1 : 0);
   w.pod<std::int32_t>(d.best_design);
   w.doubles(d.best_latent.data(), 2);
+  if (with_obs_stats) {
+    w.doubles(s.obs_mean.data(), static_cast<std::size_t>(s.obs_mean.size()));
+    w.doubles(s.obs_var.data(), static_cast<std::size_t>(s.obs_var.size()));
+    w.pod<double>(s.obs_count);
+  }
   w.pod<std::uint64_t>(c.logs.size());
   for (const auto& [name, offset] : c.logs) {
     w.text(name);
@@ -161,8 +169,8 @@ Checkpoint parse_checkpoint(std::span<const unsigned char> bytes, const std::str
     throw InputError("checkpoint " + path + ": checksum mismatch (file damaged or truncated)");
   Reader r(path, bytes.subspan(8, bytes.size() - 16));
   const auto version = r.pod<std::uint32_t>("version");
-  if (version != kCheckpointVersion)
-    r.fail("unsupported version " + std::to_string(version) + " (this build reads version " +
+  if (version != 1 && version != kCheckpointVersion)
+    r.fail("unsupported version " + std::to_string(version) + " (this build reads versions 1 to " +
            std::to_string(kCheckpointVersion) + ")");
   Checkpoint c;
   c.config_fingerprint = r.pod<std::uint64_t>("config fingerprint");
@@ -205,6 +213,15 @@ Checkpoint parse_checkpoint(std::span<const unsigned char> bytes, const std::str
   d.best_design = r.pod<std::int32_t>("best design");
   const std::vector<double> bl = fixed("best latent", 2);
   d.best_latent = {bl[0], bl[1]};
+  if (version >= 2) {
+    const std::vector<double> mean = r.doubles("observation mean"), var = r.doubles("observation variance");
+    if (mean.empty() || var.size() != mean.size())
+      r.fail("observation statistics of " + std::to_string(mean.size()) + " and " + std::to_string(var.size()) +
+             " components");
+    s.obs_mean = Eigen::Map<const Eigen::VectorXd>(mean.data(), static_cast<Eigen::Index>(mean.size()));
+    s.obs_var = Eigen::Map<const Eigen::VectorXd>(var.data(), static_cast<Eigen::Index>(var.size()));
+    s.obs_count = r.pod<double>("observation count");
+  }
   const auto logs = r.count("log count", 16);
   for (std::uint64_t i = 0; i < logs; ++i) {
     std::string name = r.text("log name");

@@ -2,7 +2,7 @@
 // Checkpoints of a co-design run: the whole LoopState plus the run's bookkeeping, in one
 // versioned, checksummed binary file written atomically (PATH.tmp, then rename).
 //
-// Format (little-endian; version 1):
+// Format (little-endian; versions 1 and 2, 2 = 1 plus the observation statistics):
 //   magic "CDSCKPT1", u32 version, u64 config fingerprint (FNV-1a of the resolved config text),
 //   i64 k, i64 t, f64 wall_s,
 //   vectors (u64 length + f32 data): actor, critic, log_std,
@@ -10,6 +10,8 @@
 //   strings (u64 length + bytes): act, update and design RNG states,
 //   distribution: u64 designs; score, baseline (f64 vectors); per design μ (2 f64), Σ (4 f64),
 //     buffer (u64 length + f64s), samples (i64); u8 collapsed, i32 best design, 2 f64 best latent,
+//   version 2 only (written when ppo.normalize_observations is on): observation mean and variance
+//     (u64 length + f64s each), f64 count,
 //   u64 log count, per log: string name, u64 byte offset,
 //   u64 FNV-1a checksum of every byte before it.
 // Reading checks every length against the bytes left, the checksum, the version and the config
@@ -23,7 +25,7 @@
 
 namespace codesign::coopt {
 
-inline constexpr std::uint32_t kCheckpointVersion = 1;
+inline constexpr std::uint32_t kCheckpointVersion = 2;
 
 struct Checkpoint {
   std::uint64_t config_fingerprint = 0;

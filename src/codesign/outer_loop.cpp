@@ -75,6 +75,13 @@ OuterLoop::OuterLoop(const LoopConfig& config, std::unique_ptr<EnvPool> envs)
   design_rng_ = master.split();
   model_.init_orthogonal(init_rng);
   model_.set_matmul_precision(config_.ppo.matmul_precision);
+  if (config_.ppo.normalize_observations)
+    obs_stats_.emplace(static_cast<int>(envs_->spec().observation.dim()));
+}
+
+std::optional<rl::ObsNormalization> OuterLoop::obs_normalization() const {
+  if (!obs_stats_) return std::nullopt;
+  return obs_stats_->frozen();
 }
 
 std::vector<DesignSample> OuterLoop::sample_designs(std::vector<EpisodeSetup>& setups) {
@@ -128,7 +135,8 @@ IterationReport OuterLoop::iterate() {
     running[i] = 0.0;
     length[i] = 0;
   };
-  const rl::RolloutOptions options{n_steps, config_.ppo.gamma, config_.ppo.gae_lambda};
+  const rl::RolloutOptions options{n_steps, config_.ppo.gamma, config_.ppo.gae_lambda,
+                                   obs_stats_ ? &*obs_stats_ : nullptr};
   rl::MlpPolicy policy(model_);
   rep.policy_s = rl::collect_rollout(policy, step, envs_->spec().action, options, obs, episode_starts, buffer_,
                                      act_rng_, observe).policy_s;
@@ -168,6 +176,11 @@ LoopState OuterLoop::state() const {
   s.rng_update = update_rng_.save();
   s.rng_design = design_rng_.save();
   s.distribution = distribution_.state();
+  if (obs_stats_) {
+    s.obs_mean = obs_stats_->mean;
+    s.obs_var = obs_stats_->var;
+    s.obs_count = obs_stats_->count;
+  }
   return s;
 }
 
@@ -181,6 +194,13 @@ void OuterLoop::restore(const LoopState& s) {
   rl::Rng a, u, d;
   if (!a.restore(s.rng_act) || !u.restore(s.rng_update) || !d.restore(s.rng_design))
     throw std::invalid_argument("random generator state unreadable");
+  const auto obs_dim = static_cast<Eigen::Index>(envs_->spec().observation.dim());
+  if (obs_stats_ && (s.obs_mean.size() != obs_dim || s.obs_var.size() != obs_dim || !(s.obs_count > 0.0) ||
+                     !s.obs_mean.allFinite() || !s.obs_var.allFinite() || (s.obs_var.array() < 0.0).any()))
+    throw std::invalid_argument("observation statistics missing or unusable (ppo.normalize_observations is on, " +
+                                std::to_string(obs_dim) + " components expected)");
+  if (!obs_stats_ && s.obs_mean.size() != 0)
+    throw std::invalid_argument("observation statistics present but ppo.normalize_observations is off");
   DesignDistribution dist(distribution_config(config_.codesign, config_.task), design_chambers(), s.distribution);
   rl::Adam opt = rl::make_adam(config_.ppo);
   opt.restore(s.adam_steps, s.adam_m, s.adam_v);
@@ -198,6 +218,11 @@ void OuterLoop::restore(const LoopState& s) {
   update_rng_ = u;
   design_rng_ = d;
   distribution_ = std::move(dist);
+  if (obs_stats_) {
+    obs_stats_->mean = s.obs_mean;
+    obs_stats_->var = s.obs_var;
+    obs_stats_->count = s.obs_count;
+  }
   k_ = s.k;
   t_ = s.t;
 }

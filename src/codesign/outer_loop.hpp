@@ -18,6 +18,7 @@
 // minibatch shuffling, design sampling (designs and plate phases).
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,7 @@
 #include "codesign/task_config.hpp"
 #include "rl/actor_critic.hpp"
 #include "rl/adam.hpp"
+#include "rl/obs_normalizer.hpp"
 #include "rl/ppo.hpp"
 #include "rl/rng.hpp"
 #include "rl/rollout_buffer.hpp"
@@ -82,6 +84,9 @@ struct LoopState {
   std::vector<Eigen::VectorXf> adam_m, adam_v;
   std::string rng_act, rng_update, rng_design;
   DistributionState distribution;
+  // Running observation statistics (ppo.normalize_observations); empty when off.
+  Eigen::VectorXd obs_mean, obs_var;
+  double obs_count = 0.0;
 };
 
 class OuterLoop {
@@ -97,6 +102,9 @@ class OuterLoop {
 
   const LoopConfig& config() const { return config_; }
   const rl::ActorCritic& model() const { return model_; }
+  // The frozen observation normalisation the policy acts after (ppo.normalize_observations);
+  // nullopt when off.
+  std::optional<rl::ObsNormalization> obs_normalization() const;
   const DesignDistribution& distribution() const { return distribution_; }
   DesignDistribution& distribution() { return distribution_; }
   std::int64_t timesteps() const { return t_; }
@@ -112,6 +120,7 @@ class OuterLoop {
   rl::Adam optimizer_;
   rl::RolloutBuffer buffer_;
   rl::Rng act_rng_, update_rng_, design_rng_;
+  std::optional<rl::RunningObsStats> obs_stats_;
   DesignDistribution distribution_;
   int k_ = 0;
   std::int64_t t_ = 0;

@@ -454,8 +454,9 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     runner = {jr, pr[0], pr[1], 0.0, 0.0};
   }
   const rl::ActorCritic& model = loop.model();
-  const Controller policy = [&model](const Eigen::VectorXd& obs) {
-    const Eigen::VectorXf o = obs.cast<float>();
+  const std::optional<rl::ObsNormalization> obs_norm = loop.obs_normalization();  // frozen
+  const Controller policy = [&model, &obs_norm](const Eigen::VectorXd& obs) {
+    const Eigen::VectorXf o = (obs_norm ? obs_norm->apply(obs) : obs).cast<float>();
     return static_cast<double>(model.deterministic_action(o)(0));
   };
   EvaluationOptions eo;
@@ -476,7 +477,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
       publish_trace(*telemetry, *er, loop.timesteps());
     }
   }
-  rl::save_policy(dir / "policy.bin", model);
+  rl::save_policy(dir / "policy.bin", model, obs_norm);
   result.wall_s = elapsed();
   const double wall_total = wall_before + result.wall_s;
   io::write_file_atomically((dir / "result.toml").string(), [&](std::ostream& out) {

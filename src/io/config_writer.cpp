@@ -166,6 +166,9 @@ void write_ppo_table(std::ostream& out, const rl::PpoConfig& c) {
   t.number("max_grad_norm", c.max_grad_norm);
   if (c.target_kl) t.number("target_kl", *c.target_kl);
   t.boolean("normalize_advantage", c.normalize_advantage);
+  // Only when on: the resolved config (and the checkpoint fingerprint) of a run without it is
+  // what it was before the key existed, so such runs still resume.
+  if (c.normalize_observations) t.boolean("normalize_observations", true);
   t.integers("actor_hidden", c.actor_hidden);
   t.integers("critic_hidden", c.critic_hidden);
   t.number("log_std_init", c.log_std_init);

@@ -82,6 +82,7 @@ rl::PpoConfig read_ppo_config(TableReader& t, const rl::PpoConfig& d) {
   if (t.has("target_kl")) c.target_kl = t.number("target_kl", 0.0, ppo_range::target_kl);
   else t.number("target_kl", 0.0, ppo_range::target_kl);
   c.normalize_advantage = t.boolean("normalize_advantage", d.normalize_advantage);
+  c.normalize_observations = t.boolean("normalize_observations", d.normalize_observations);
   c.actor_hidden = hidden(t, "actor_hidden", d.actor_hidden);
   c.critic_hidden =
       hidden(t, "critic_hidden", d.critic_hidden);

@@ -55,6 +55,9 @@ struct PpoConfig {
   double max_grad_norm = 0.5;
   std::optional<double> target_kl;  // None: no early stop
   bool normalize_advantage = true;
+  // Observation normalisation with running statistics (SB3's VecNormalize(norm_obs=True),
+  // obs_normalizer.hpp); off by default (the paper's runs do not use it).
+  bool normalize_observations = false;
   std::vector<int> actor_hidden = {64, 64};
   std::vector<int> critic_hidden = {64, 64};
   double log_std_init = 0.0;
@@ -152,6 +155,9 @@ struct PpoLossCoefficients {
   double ent_coef = 0.0;
   double vf_coef = 0.5;
   bool normalize_advantage = true;
+  // Observation normalisation with running statistics (SB3's VecNormalize(norm_obs=True),
+  // obs_normalizer.hpp); off by default (the paper's runs do not use it).
+  bool normalize_observations = false;
 };
 
 template <class S>

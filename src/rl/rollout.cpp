@@ -46,7 +46,12 @@ RolloutSummary collect_rollout(RolloutPolicy& policy, const RolloutStep& step, c
   Eigen::RowVectorXf dones = Eigen::RowVectorXf::Zero(n);
   for (int k = 0; k < options.n_steps; ++k) {
     const bool last = k + 1 == options.n_steps;
-    const Eigen::MatrixXf obs_f = obs.cast<float>();
+    ObsNormalization norm;
+    if (options.obs_stats) {
+      options.obs_stats->update(obs);
+      norm = options.obs_stats->frozen();
+    }
+    const Eigen::MatrixXf obs_f = (options.obs_stats ? normalize_columns(norm, obs) : obs).cast<float>();
     auto t0 = std::chrono::steady_clock::now();
     RolloutPolicy::ActResult act = policy.act(obs_f, episode_starts, rng);
     summary.policy_s += seconds_since(t0);
@@ -59,7 +64,8 @@ RolloutSummary collect_rollout(RolloutPolicy& policy, const RolloutStep& step, c
       dones(i) = done ? 1.0f : 0.0f;
       if (done && r.truncated[iu] && !r.terminated[iu] && r.terminal_obs[iu]) {
         t0 = std::chrono::steady_clock::now();
-        const Eigen::VectorXf terminal = r.terminal_obs[iu]->cast<float>();
+        const Eigen::VectorXd& raw = *r.terminal_obs[iu];
+        const Eigen::VectorXf terminal = (options.obs_stats ? norm.apply(raw) : raw).cast<float>();
         reward += options.gamma * static_cast<double>(policy.value_of(terminal, iu));
         summary.policy_s += seconds_since(t0);
       }
@@ -70,7 +76,8 @@ RolloutSummary collect_rollout(RolloutPolicy& policy, const RolloutStep& step, c
     episode_starts = dones;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  const Eigen::MatrixXf last_obs = obs.cast<float>();
+  const Eigen::MatrixXf last_obs =
+      (options.obs_stats ? normalize_columns(options.obs_stats->frozen(), obs) : obs).cast<float>();
   buffer.compute_returns_and_advantage(policy.values(last_obs), dones, options.gamma, options.gae_lambda);
   summary.policy_s += seconds_since(t0);
   return summary;

@@ -28,6 +28,7 @@
 
 #include "rl/actor_critic.hpp"
 #include "rl/env.hpp"
+#include "rl/obs_normalizer.hpp"
 #include "rl/rng.hpp"
 #include "rl/rollout_buffer.hpp"
 #include "rl/vec_env.hpp"
@@ -71,6 +72,10 @@ struct RolloutOptions {
   int n_steps = 2048;
   double gamma = 0.99;
   double gae_lambda = 0.95;
+  // Observation normalisation (obs_normalizer.hpp), not owned; null: the policy and the buffer
+  // get the observations as the environments give them. Set: each step's observations update
+  // the statistics, then the policy, the buffer and the bootstrap values see them normalised.
+  RunningObsStats* obs_stats = nullptr;
 };
 
 struct RolloutSummary {

@@ -47,6 +47,7 @@ Trainer::Trainer(const EnvFactory& factory, const TrainerConfig& config)
   update_rng_ = master.split();
   model_.init_orthogonal(init_rng);
   model_.set_matmul_precision(config_.ppo.matmul_precision);
+  if (config_.ppo.normalize_observations) obs_stats_.emplace(static_cast<int>(venv_.spec().observation.dim()));
 
   last_obs_ = venv_.reset();
   last_episode_starts_ = Eigen::RowVectorXf::Ones(config_.n_envs);  // SB3: all ones at start
@@ -73,7 +74,8 @@ void Trainer::collect_rollouts() {
     running_return_[i] = 0.0;
     running_length_[i] = 0;
   };
-  const RolloutOptions options{config_.ppo.n_steps, config_.ppo.gamma, config_.ppo.gae_lambda};
+  const RolloutOptions options{config_.ppo.n_steps, config_.ppo.gamma, config_.ppo.gae_lambda,
+                               obs_stats_ ? &*obs_stats_ : nullptr};
   collect_rollout(policy, step, venv_.spec().action, options, last_obs_, last_episode_starts_, buffer_, act_rng_,
                   observe);
   last_dones_ = last_episode_starts_;
@@ -120,6 +122,11 @@ std::optional<double> Trainer::mean_recent_return() const {
   return sum / static_cast<double>(recent_.size());
 }
 
+std::optional<ObsNormalization> Trainer::obs_normalization() const {
+  if (!obs_stats_) return std::nullopt;
+  return obs_stats_->frozen();
+}
+
 std::uint64_t eval_seed_first(std::uint64_t train_seed, int episodes) {
   if (train_seed > kMaxEvalTrainSeed)
     throw std::invalid_argument("eval_seed_first: training seed " + std::to_string(train_seed) +
@@ -164,10 +171,10 @@ EvalResult evaluate(const DeterministicPolicy& policy, const EnvFactory& factory
 }
 
 EvalResult evaluate(const ActorCritic& model, const EnvFactory& factory, int episodes,
-                    std::uint64_t seed, int max_steps) {
+                    std::uint64_t seed, int max_steps, const std::optional<ObsNormalization>& obs_norm) {
   return evaluate(
-      [&model](const Eigen::VectorXd& obs) -> Eigen::VectorXd {
-        const Eigen::VectorXf o = obs.cast<float>();
+      [&model, &obs_norm](const Eigen::VectorXd& obs) -> Eigen::VectorXd {
+        const Eigen::VectorXf o = (obs_norm ? obs_norm->apply(obs) : obs).cast<float>();
         return model.deterministic_action(o).cast<double>();
       },
       factory, episodes, seed, max_steps);

@@ -90,6 +90,9 @@ class Trainer {
   // The last stats_window finished episodes, oldest first.
   const std::deque<EpisodeRecord>& recent_episodes() const { return recent_; }
   std::optional<double> mean_recent_return() const;
+  // The frozen observation normalisation (ppo.normalize_observations), for evaluation and the
+  // policy file; nullopt when off.
+  std::optional<ObsNormalization> obs_normalization() const;
 
  private:
   TrainerConfig config_;
@@ -98,6 +101,7 @@ class Trainer {
   Adam optimizer_;
   RolloutBuffer buffer_;
   Rng act_rng_;
+  std::optional<RunningObsStats> obs_stats_;  // ppo.normalize_observations
   Rng update_rng_;
   Eigen::MatrixXd last_obs_;                // obs_dim x n_envs
   Eigen::RowVectorXf last_episode_starts_;  // 1 x n_envs
@@ -154,8 +158,9 @@ using DeterministicPolicy = std::function<Eigen::VectorXd(const Eigen::VectorXd&
 // policy's output clipped to the action bounds.
 EvalResult evaluate(const DeterministicPolicy& policy, const EnvFactory& factory, int episodes,
                     std::uint64_t seed, int max_steps = 1'000'000);
-// The actor-critic's mean action as the policy.
+// The actor-critic's mean action as the policy (of the normalised observation, if given).
 EvalResult evaluate(const ActorCritic& model, const EnvFactory& factory, int episodes,
-                    std::uint64_t seed, int max_steps = 1'000'000);
+                    std::uint64_t seed, int max_steps = 1'000'000,
+                    const std::optional<ObsNormalization>& obs_norm = std::nullopt);
 
 }  // namespace codesign::rl

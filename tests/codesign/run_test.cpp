@@ -15,6 +15,7 @@
 #include "codesign/run.hpp"
 #include "io/csv_table.hpp"
 #include "io/telemetry.hpp"
+#include "rl/policy_file.hpp"
 #include "lcm/eventlog.h"
 #include "test_setup.hpp"
 
@@ -86,6 +87,32 @@ TEST(Run, ResumedRunEndsIdentically) {
   EXPECT_EQ(result_without_wall(a), result_without_wall(b));
   EXPECT_EQ(slurp(a / "episodes.csv"), slurp(b / "episodes.csv"));
   EXPECT_EQ(slurp(a / "q_disc.csv"), slurp(b / "q_disc.csv"));
+}
+
+// Memory and observation normalisation carry through checkpoint (version 2), resume, policy
+// file and evaluation: the resumed run ends with the same files.
+TEST(Run, ResumedRunWithHistoryAndObservationNormalisationEndsIdentically) {
+  RunSettings s = test::tiny_run();
+  s.loop.task.history = 4;
+  s.loop.ppo.normalize_observations = true;
+  s.config_text += "# history 4, normalised observations\n";
+  const fs::path a = fresh_dir("norm_whole"), b = fresh_dir("norm_resumed");
+  ASSERT_TRUE(run_codesign(s, opts(a)).completed);
+  RunOptions o = opts(b);
+  o.stop_after = 60;
+  ASSERT_FALSE(run_codesign(s, o).completed);
+  o.stop_after = -1;
+  o.resume = true;
+  ASSERT_TRUE(run_codesign(s, o).completed);
+  EXPECT_EQ(slurp(a / "policy.bin"), slurp(b / "policy.bin"));
+  EXPECT_EQ(result_without_wall(a), result_without_wall(b));
+  EXPECT_EQ(slurp(a / "episodes.csv"), slurp(b / "episodes.csv"));
+  const rl::Policy policy = rl::Policy::load(a / "policy.bin");
+  ASSERT_TRUE(policy.obs_norm().has_value());
+  EXPECT_EQ(policy.obs_dim(), 7 + 4 * 3);  // proprioceptive + 4 decisions of ε, θ and action
+  // The statistics saw real observations: the design components vary across designs.
+  EXPECT_GT(policy.obs_norm()->var[0], 0.0);
+  EXPECT_LT(policy.obs_norm()->var[0], 1.0);
 }
 
 TEST(Run, RefusesToOverwriteAnEarlierRun) {

@@ -2,6 +2,7 @@
 // for, with a scripted policy and scripted environments whose answers are known in advance.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "rl/rollout.hpp"
@@ -16,6 +17,7 @@ class ScriptedPolicy final : public RolloutPolicy {
   void begin_rollout() override { ++rollouts; }
   ActResult act(const Eigen::MatrixXf& obs, const Eigen::RowVectorXf& starts, Rng& /*rng*/) override {
     starts_seen.push_back(starts);
+    obs_seen.push_back(obs);
     ActResult r;
     r.actions = Eigen::MatrixXf::Constant(1, obs.cols(), 2.0f);
     r.values = 10.0f * obs.row(0);
@@ -30,6 +32,7 @@ class ScriptedPolicy final : public RolloutPolicy {
 
   int rollouts = 0;
   std::vector<Eigen::RowVectorXf> starts_seen;
+  std::vector<Eigen::MatrixXf> obs_seen;
   std::vector<std::size_t> value_envs;
 };
 
@@ -104,6 +107,43 @@ TEST(Rollout, PolicyIsToldWhereEpisodesStartAndAskedForTerminalValues) {
   EXPECT_EQ(starts(1), 1.0f);
   EXPECT_EQ(obs(0, 0), 0.0);
   EXPECT_EQ(obs(0, 1), 0.0);
+}
+
+// With observation statistics, the policy and the buffer see each step's observations after the
+// statistics took them in; the environments' own observations (handed back) stay raw.
+TEST(Rollout, NormalisedObservationsReachPolicyAndBuffer) {
+  ScriptedPolicy policy;
+  ScriptedEnvs envs;
+  envs.t = {1, 0};  // env 0 starts one decision in, so the first batch is (1, 0)
+  BoxSpec bounds;
+  bounds.low = Eigen::VectorXd::Constant(1, -1.0);
+  bounds.high = Eigen::VectorXd::Constant(1, 1.0);
+  RunningObsStats stats(1);
+  RolloutOptions options{3, 0.5, 1.0, &stats};
+  RolloutBuffer buffer(options.n_steps, 2, 1, 1);
+  Eigen::MatrixXd obs(1, 2);
+  obs << 1.0, 0.0;
+  Eigen::RowVectorXf starts = Eigen::RowVectorXf::Ones(2);
+  Rng rng(1);
+  collect_rollout(
+      policy, [&](const Eigen::MatrixXd& a, bool) -> const VecStepResult& { return envs.step(a); }, bounds, options, obs,
+      starts, buffer, rng);
+  // After the first batch {1, 0}: count 2 + 1e-4, mean 1/count, var from the pooled moments.
+  const double n = 2.0 + 1e-4, m = 1.0 / n;
+  const double var = (1e-4 * (1.0 + m * m) + (1.0 - m) * (1.0 - m) + m * m) / n;
+  const float z0 = static_cast<float>((1.0 - m) / std::sqrt(var + 1e-8));
+  const float z1 = static_cast<float>((0.0 - m) / std::sqrt(var + 1e-8));
+  ASSERT_EQ(policy.obs_seen.size(), 3u);
+  EXPECT_FLOAT_EQ(policy.obs_seen[0](0, 0), z0);
+  EXPECT_FLOAT_EQ(policy.obs_seen[0](0, 1), z1);
+  EXPECT_EQ(buffer.observations()(0, 0), policy.obs_seen[0](0, 0));
+  EXPECT_EQ(buffer.observations()(0, 1), policy.obs_seen[0](0, 1));
+  EXPECT_DOUBLE_EQ(stats.count, 6.0 + 1e-4);  // 3 steps × 2 environments
+  // Handed back raw: env 0 was truncated at steps 0 and 2, env 1 terminated at step 2; both
+  // restarted at observation 0.
+  EXPECT_EQ(obs(0, 0), 0.0);
+  EXPECT_EQ(obs(0, 1), 0.0);
+  EXPECT_EQ(starts(0), 1.0f);
 }
 
 }  // namespace
