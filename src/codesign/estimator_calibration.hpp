@@ -21,7 +21,7 @@
 //     θ_i(k) = θc_i ± 1°·sin(2πk/K),  k = decision, K = decisions per episode,
 // with the sign alternating between episodes (opposite sweep directions): θ covers θ* ± 2.5°,
 // i.e. ±2.5° of base turn, or about ±17 mN on j21 (7 mN per degree), over the band (±4 mN) and
-// the plate's swing (the force PID turns the base by about ±1.5° to follow it). The sinusoid
+// the plate's swing (the force PID turns the base over −1.4°..1.3° on j47, θ* = 0.88°). The sinusoid
 // turns the base by at most 2π·1°/K ≈ 0.13° per decision (K = 50): an action of 0.013, far from
 // the clip. Episodes that lose contact end early and give fewer samples.
 #include <cstddef>
