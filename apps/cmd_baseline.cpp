@@ -108,7 +108,11 @@ int run_baseline(const BaselineOptions& o) {
     const std::string name = std::string("pid_") + coopt::to_string(sig);
     const bool estimate = sig == coopt::PidSignal::Estimate;
     const coopt::ForceFit& fit = r.estimator.fit;
-    if (estimate)
+    if (estimate && !r.estimator.ok())
+      std::printf("baseline: %-11s fit failed on %d contact samples of %d open-loop episodes: %s; F_hat is NaN, so "
+                  "the PID holds the base\n",
+                  name.c_str(), fit.samples, r.estimator.episodes, r.estimator.failure.c_str());
+    else if (estimate)
       std::printf("baseline: %-11s fit eps = c0 + c1 F + c2 theta: c0 %.6g, c1 %.4g /mN, c2 %.4g /rad over %d contact "
                   "samples of %d open-loop episodes (theta centred on %.3f deg): R^2 %.4f, rms %.2f mN\n",
                   name.c_str(), fit.estimator.c0, fit.estimator.c1, fit.estimator.c2, fit.samples, r.estimator.episodes,
@@ -133,7 +137,8 @@ int run_baseline(const BaselineOptions& o) {
         << "   # strain per mN\nestimator_c2 = " << CsvLog::num(fit.estimator.c2) << "   # strain per rad\n"
         << "fit_r2 = " << CsvLog::num(fit.r2) << "\nfit_rms_mN = " << CsvLog::num(fit.rms_mN)
         << "\nfit_samples = " << fit.samples << "\nfit_episodes = " << r.estimator.episodes
-        << "\nfit_theta_centre_deg = " << CsvLog::num(r.estimator.theta_centre_rad * 180.0 / std::numbers::pi) << "\n";
+        << "\nfit_theta_centre_deg = " << CsvLog::num(r.estimator.theta_centre_rad * 180.0 / std::numbers::pi) << "\n"
+        << (r.estimator.ok() ? std::string() : "fit_failure = \"" + r.estimator.failure + "\"\n");
     toml += t.str();
     std::ostringstream rest;
     toml_test(rest, r.tuning_return, r.evaluations, r.test);

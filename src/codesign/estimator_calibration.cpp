@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <vector>
@@ -79,7 +80,15 @@ EstimatorCalibration calibrate_force_estimator(const std::shared_ptr<SimulatorPo
   });
   std::vector<ForceSample> all;
   for (const auto& v : per_episode) all.insert(all.end(), v.begin(), v.end());
-  out.fit = fit_force_estimator(all);
+  try {
+    out.fit = fit_force_estimator(all);
+  } catch (const std::invalid_argument& e) {
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    out.failure = e.what();
+    out.fit.estimator = {nan, nan, nan};
+    out.fit.r2 = out.fit.rms_mN = nan;
+    out.fit.samples = static_cast<int>(all.size());
+  }
   return out;
 }
 

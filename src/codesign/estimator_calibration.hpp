@@ -26,6 +26,7 @@
 // the clip. Episodes that lose contact end early and give fewer samples.
 #include <cstddef>
 #include <memory>
+#include <string>
 
 #include "codesign/force_estimator.hpp"
 #include "codesign/simulator_pool.hpp"
@@ -38,10 +39,15 @@ struct EstimatorCalibration {
   ForceFit fit;
   int episodes = 0;             // open-loop episodes run
   double theta_centre_rad = 0;  // θ*
+  // Why the samples could not identify the model (fit_force_estimator's message, e.g. too few
+  // samples when every episode lost contact at once); empty when the fit succeeded. On failure
+  // the coefficients, R² and rms are NaN, so F̂ is NaN and a PID on it holds the base (a
+  // non-finite error gives action 0): a sweep row, not an aborted sweep.
+  std::string failure;
+  bool ok() const { return failure.empty(); }
 };
 
-// Throws std::invalid_argument (fit_force_estimator) if the samples cannot identify the model,
-// e.g. every episode lost contact at once; episodes and tuning_phases must be >= 1.
+// episodes and tuning_phases must be >= 1 (else std::invalid_argument).
 EstimatorCalibration calibrate_force_estimator(const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task,
                                                const EpisodeSetup& setup, int episodes, int tuning_phases,
                                                std::size_t threads = 1);

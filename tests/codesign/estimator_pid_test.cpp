@@ -3,8 +3,10 @@
 // Short budgets (a few episodes each) keep the test to a few tens of seconds.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
 
 #include "codesign/estimator_calibration.hpp"
 #include "codesign/pid_tuning.hpp"
@@ -52,6 +54,33 @@ TEST(EstimatorPid, FitExplainsTheStrainAndBeatsTheStrainPid) {
   // independent check, with full budgets: ≈ 44 against 12–14). A margin of 10, a quarter of
   // that gap and several times the returns' spread, fails only if the estimate stops helping.
   EXPECT_GT(est.test.mean_return, strain.test.mean_return + 10.0);
+}
+
+TEST(EstimatorPid, AFitThatCannotIdentifyTheModelHoldsTheBase) {
+  // One decision per episode and 2 fit episodes: at most 2 samples, fewer than the 3
+  // coefficients. The calibration says why, F̂ is NaN, and the PID on it acts 0.
+  fem::SceneConfig scene;
+  scene.settle_steps = 5;
+  auto sims = std::make_shared<SimulatorPool>(fem::WhiskerModelSpec{}, scene, fem::SolverConfig{});
+  TaskConfig task;
+  task.episode_steps = 5;
+  const EstimatorCalibration c = calibrate_force_estimator(sims, task, {21, 0.0, 0.0, 0.0, 0.0}, 2, 1);
+  EXPECT_FALSE(c.ok());
+  EXPECT_NE(c.failure.find("samples; at least 3 are needed"), std::string::npos) << c.failure;
+  EXPECT_LE(c.fit.samples, 2);
+  EXPECT_TRUE(std::isnan(c.fit.r2));
+  WhiskerPid pid;
+  pid.signal = PidSignal::Estimate;
+  pid.setpoint = task.target_force_mN;
+  pid.gains = {0.05, 0.05, 0.0};
+  pid.estimator = c.fit.estimator;
+  fem::Sensors s;
+  s.contact_force_mN = 10.0;
+  s.axial_strain = 4e-4;
+  const double e = pid_error(pid, s, task);
+  EXPECT_FALSE(std::isfinite(e));
+  PidController controller(pid.gains);
+  EXPECT_EQ(controller.act(e), 0.0);
 }
 
 }  // namespace
