@@ -1,7 +1,8 @@
 // `codesign baseline pid --config run.toml --design J -o DIR [--p1 P] [--p2 P] [--threads N] [--force]`
 //
 // What a control engineer would try first, on one design: a PID on the measured force (an oracle
-// sensor the policy lacks) and a PID on the strain ε (the policy's signal), gains tuned by NLopt
+// sensor the policy lacks), a PID on the strain ε (the policy's signal) and a PID on the force
+// estimated from ε and the base angle θ (fitted on open-loop episodes), gains tuned by NLopt
 // ([pid] of the config), and the best fixed base angle for comparison ([sweep] fixed_theta_*),
 // all tuned on the tuning phases and tested on disjoint evaluation phases (docs/baselines.md).
 // Writes DIR/baseline.toml and DIR/eval/<controller>.csv (+ _trace.csv of the first test episode).
@@ -38,7 +39,9 @@ struct BaselineOptions {
   bool force = false;
 };
 
-void write_eval(const fs::path& dir, const std::string& which, const coopt::DesignEvaluation& e) {
+// With an estimator, the trace gets the column F_hat_mN (F̂ at the same step).
+void write_eval(const fs::path& dir, const std::string& which, const coopt::DesignEvaluation& e,
+                const coopt::ForceEstimator* estimator = nullptr) {
   fs::create_directories(dir);
   io::write_file_atomically((dir / (which + ".csv")).string(), [&](std::ostream& out) {
     out << "episode,phase_rad,return,decisions,band_fraction,reason\n";
@@ -48,10 +51,13 @@ void write_eval(const fs::path& dir, const std::string& which, const coopt::Desi
           << e.reasons[k] << '\n';
   });
   io::write_file_atomically((dir / (which + "_trace.csv")).string(), [&](std::ostream& out) {
-    out << "decision,t_s,theta_rad,F_mN,strain,plate_z_mm,action\n";
-    for (const coopt::TraceRow& r : e.trace)
+    out << "decision,t_s,theta_rad,F_mN,strain,plate_z_mm,action" << (estimator ? ",F_hat_mN\n" : "\n");
+    for (const coopt::TraceRow& r : e.trace) {
       out << r.decision << ',' << CsvLog::num(r.t_s) << ',' << CsvLog::num(r.theta_rad) << ',' << CsvLog::num(r.force_mN)
-          << ',' << CsvLog::num(r.strain) << ',' << CsvLog::num(r.plate_z_mm) << ',' << CsvLog::num(r.action) << '\n';
+          << ',' << CsvLog::num(r.strain) << ',' << CsvLog::num(r.plate_z_mm) << ',' << CsvLog::num(r.action);
+      if (estimator) out << ',' << CsvLog::num(estimator->force_mN(r.strain, r.theta_rad));
+      out << '\n';
+    }
   });
 }
 
@@ -97,10 +103,21 @@ int run_baseline(const BaselineOptions& o) {
                      std::to_string(pc.test_episodes) + "\n\n";
   toml += "[design]\ndesign = " + std::to_string(o.design) + "\npressures_kPa = [" + CsvLog::num(o.p1) + ", " +
           CsvLog::num(p2) + "]\n\n";
-  for (coopt::PidSignal sig : {coopt::PidSignal::Force, coopt::PidSignal::Strain}) {
+  for (coopt::PidSignal sig : {coopt::PidSignal::Force, coopt::PidSignal::Strain, coopt::PidSignal::Estimate}) {
     const coopt::PidTuningResult r = coopt::tune_whisker_pid(sims, task, es, sig, pc, threads);
     const std::string name = std::string("pid_") + coopt::to_string(sig);
-    write_eval(dir / "eval", name, r.test);
+    const bool estimate = sig == coopt::PidSignal::Estimate;
+    const coopt::ForceFit& fit = r.estimator.fit;
+    if (estimate && !r.estimator.ok())
+      std::printf("baseline: %-11s fit failed on %d contact samples of %d open-loop episodes: %s; F_hat is NaN, so "
+                  "the PID holds the base\n",
+                  name.c_str(), fit.samples, r.estimator.episodes, r.estimator.failure.c_str());
+    else if (estimate)
+      std::printf("baseline: %-11s fit eps = c0 + c1 F + c2 theta: c0 %.6g, c1 %.4g /mN, c2 %.4g /rad over %d contact "
+                  "samples of %d open-loop episodes (theta centred on %.3f deg): R^2 %.4f, rms %.2f mN\n",
+                  name.c_str(), fit.estimator.c0, fit.estimator.c1, fit.estimator.c2, fit.samples, r.estimator.episodes,
+                  r.estimator.theta_centre_rad * 180.0 / std::numbers::pi, fit.r2, fit.rms_mN);
+    write_eval(dir / "eval", name, r.test, estimate ? &fit.estimator : nullptr);
     std::printf("baseline: %-11s kp %.4g ki %.4g kd %.4g setpoint %.6g: tuning return %.2f (%d evaluations); "
                 "test return %.2f +- %.2f over %zu episodes (band %.0f%%)\n",
                 name.c_str(), r.pid.gains.kp, r.pid.gains.ki, r.pid.gains.kd, r.pid.setpoint, r.tuning_return,
@@ -110,10 +127,18 @@ int run_baseline(const BaselineOptions& o) {
     std::ostringstream t;
     t << "[" << name << "]\nkp = " << CsvLog::num(r.pid.gains.kp) << "\nki = " << CsvLog::num(r.pid.gains.ki)
       << "\nkd = " << CsvLog::num(r.pid.gains.kd) << "\nsetpoint = " << CsvLog::num(r.pid.setpoint)
-      << (sig == coopt::PidSignal::Force ? "   # F_t, mN\n" : "   # strain\n");
+      << (sig == coopt::PidSignal::Strain ? "   # strain\n" : "   # F_t, mN\n");
     if (sig == coopt::PidSignal::Strain)
       t << "strain_calibrated = " << CsvLog::num(r.strain_calibrated) << "\nsetpoint_offset = " << CsvLog::num(r.offset)
         << "   # band units\n";
+    if (estimate)
+      t << "# F_hat = (eps - c0 - c2*theta)/c1, least squares of eps against (1, F, theta) over open-loop episodes\n"
+        << "estimator_c0 = " << CsvLog::num(fit.estimator.c0) << "\nestimator_c1 = " << CsvLog::num(fit.estimator.c1)
+        << "   # strain per mN\nestimator_c2 = " << CsvLog::num(fit.estimator.c2) << "   # strain per rad\n"
+        << "fit_r2 = " << CsvLog::num(fit.r2) << "\nfit_rms_mN = " << CsvLog::num(fit.rms_mN)
+        << "\nfit_samples = " << fit.samples << "\nfit_episodes = " << r.estimator.episodes
+        << "\nfit_theta_centre_deg = " << CsvLog::num(r.estimator.theta_centre_rad * 180.0 / std::numbers::pi) << "\n"
+        << (r.estimator.ok() ? std::string() : "fit_failure = \"" + r.estimator.failure + "\"\n");
     toml += t.str();
     std::ostringstream rest;
     toml_test(rest, r.tuning_return, r.evaluations, r.test);
@@ -144,7 +169,8 @@ void add_baseline_command(CLI::App& root, Runner& run) {
   base->require_subcommand(1);
   auto opt = std::make_shared<BaselineOptions>();
   CLI::App* cmd = base->add_subcommand(
-      "pid", "NLopt-tuned PID on the force (oracle) and on the strain, and the best fixed theta, on one design");
+      "pid", "NLopt-tuned PID on the force (oracle), on the strain and on the force estimated from strain and "
+      "base angle, and the best fixed theta, on one design");
   cmd->add_option("--config", opt->config, "run config (TOML; [pid], [sweep] fixed_theta_*)")->required();
   cmd->add_option("--design", opt->design, "design index 0..109 (default 21)");
   cmd->add_option("-o,--out", opt->out, "output directory")->required();

@@ -1,7 +1,7 @@
 // `codesign sweep --config run.toml -o DIR [--designs A-B] [--threads N] [--force] [--report] [--plots DIR]`
 //
 // The design landscape (docs/baselines.md): every design of [sweep] on its pressure grid, each
-// with the best fixed θ, the force PID and the strain PID tuned by NLopt ([pid]); DIR/sweep.csv
+// with the best fixed θ, the force PID, the strain PID and the estimate PID tuned by NLopt ([pid]); DIR/sweep.csv
 // one row per (design, pressures, controller), resumable: run the same command again and it
 // continues after the last finished row. Then the heat-map tables DIR/heatmap_n<N>_<c>.dat and,
 // with gnuplot installed, DIR/heatmap_<c>.png (plots/sweep_heatmap.gp through io::run_gnuplot),

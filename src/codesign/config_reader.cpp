@@ -106,6 +106,8 @@ PidTuningConfig read_pid_config(io::TableReader& root) {
   c.strain_scale = t.number("strain_scale", c.strain_scale, 1e-9, 1.0);
   c.tuning_phases = static_cast<int>(t.integer("tuning_phases", c.tuning_phases, 1, 1000));
   c.test_episodes = static_cast<int>(t.integer("test_episodes", c.test_episodes, 1, 100000));
+  c.estimator_fit_episodes =
+      static_cast<int>(t.integer("estimator_fit_episodes", c.estimator_fit_episodes, 1, 1000));
   c.search.method = local_method_from_name(
       t.string("method", to_string(c.search.method), {"bobyqa", "cobyla", "neldermead", "sbplx"}));
   c.search.starts = static_cast<int>(t.integer("starts", c.search.starts, 1, 100));
@@ -125,7 +127,9 @@ SweepConfig read_sweep_config(io::TableReader& root, const TaskConfig& task) {
   if (t.boolean("fixed_theta", true)) c.controllers.push_back(SweepController::FixedTheta);
   if (t.boolean("pid_force", true)) c.controllers.push_back(SweepController::PidForce);
   if (t.boolean("pid_strain", true)) c.controllers.push_back(SweepController::PidStrain);
-  if (c.controllers.empty()) t.fail("pid_strain", "fixed_theta, pid_force and pid_strain are all false: nothing to sweep");
+  if (t.boolean("pid_estimate", true)) c.controllers.push_back(SweepController::PidEstimate);
+  if (c.controllers.empty())
+    t.fail("pid_estimate", "fixed_theta, pid_force, pid_strain and pid_estimate are all false: nothing to sweep");
   c.fixed_theta.scan_points =
       static_cast<int>(t.integer("fixed_theta_scan_points", c.fixed_theta.scan_points, 3, 1001));
   c.fixed_theta.max_evals = static_cast<int>(t.integer("fixed_theta_max_evals", c.fixed_theta.max_evals, 1, 10000));

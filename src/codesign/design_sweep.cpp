@@ -134,19 +134,39 @@ FixedThetaTuning tune_fixed_theta(const std::shared_ptr<SimulatorPool>& sims, co
   return out;
 }
 
+namespace {
+
+// The one table of controller names.
+struct ControllerName {
+  SweepController controller;
+  const char* name;
+};
+constexpr ControllerName kControllerNames[] = {{SweepController::FixedTheta, "fixed_theta"},
+                                               {SweepController::PidForce, "pid_force"},
+                                               {SweepController::PidStrain, "pid_strain"},
+                                               {SweepController::PidEstimate, "pid_estimate"}};
+
+PidSignal signal_of(SweepController c) {
+  return c == SweepController::PidForce ? PidSignal::Force
+         : c == SweepController::PidStrain ? PidSignal::Strain
+                                           : PidSignal::Estimate;
+}
+
+}  // namespace
+
 const char* to_string(SweepController c) {
-  switch (c) {
-    case SweepController::FixedTheta: return "fixed_theta";
-    case SweepController::PidForce: return "pid_force";
-    case SweepController::PidStrain: return "pid_strain";
-  }
+  for (const ControllerName& n : kControllerNames)
+    if (n.controller == c) return n.name;
   return "?";
 }
 
 SweepController sweep_controller_from_name(const std::string& name) {
-  for (SweepController c : {SweepController::FixedTheta, SweepController::PidForce, SweepController::PidStrain})
-    if (name == to_string(c)) return c;
-  throw std::invalid_argument("unknown sweep controller '" + name + "'; allowed: fixed_theta, pid_force, pid_strain");
+  std::string allowed;
+  for (const ControllerName& n : kControllerNames) {
+    if (name == n.name) return n.controller;
+    allowed += (allowed.empty() ? "" : ", ") + std::string(n.name);
+  }
+  throw std::invalid_argument("unknown sweep controller '" + name + "'; allowed: " + allowed);
 }
 
 void SweepConfig::validate() const {
@@ -191,8 +211,11 @@ SweepRow sweep_one(const std::shared_ptr<SimulatorPool>& sims, const TaskConfig&
     row.evaluations = ft.evaluations;
     test = &ft.test;
   } else {
-    pt = tune_whisker_pid(sims, task, setup,
-                          controller == SweepController::PidForce ? PidSignal::Force : PidSignal::Strain, pid);
+    pt = tune_whisker_pid(sims, task, setup, signal_of(controller), pid);
+    if (controller == SweepController::PidEstimate) {
+      row.fit_r2 = pt.estimator.fit.r2;
+      row.fit_rms_mN = pt.estimator.fit.rms_mN;
+    }
     row.gains = pt.pid.gains;
     row.setpoint = pt.pid.setpoint;
     row.tuning_return = pt.tuning_return;
@@ -207,10 +230,12 @@ SweepRow sweep_one(const std::shared_ptr<SimulatorPool>& sims, const TaskConfig&
   return row;
 }
 
-std::string sweep_csv_header() {
+std::string sweep_csv_header_without_fit() {
   return "j,n,l_mm,w_mm,p1_kPa,p2_kPa,controller,theta0_rad,kp,ki,kd,setpoint,tuning_return,evaluations,"
          "test_return,test_return_std,test_episodes,band_fraction,seconds";
 }
+
+std::string sweep_csv_header() { return sweep_csv_header_without_fit() + ",fit_r2,fit_rms_mN"; }
 
 std::string sweep_csv_line(const SweepRow& r) {
   const fem::Design d = fem::design_from_index(r.point.design);
@@ -220,7 +245,8 @@ std::string sweep_csv_line(const SweepRow& r) {
     << CsvLog::num(r.theta0_rad) << ',' << CsvLog::num(r.gains.kp) << ',' << CsvLog::num(r.gains.ki) << ','
     << CsvLog::num(r.gains.kd) << ',' << CsvLog::num(r.setpoint) << ',' << CsvLog::num(r.tuning_return) << ','
     << r.evaluations << ',' << CsvLog::num(r.test_return) << ',' << CsvLog::num(r.test_std) << ','
-    << r.test_episodes << ',' << CsvLog::num(r.band_fraction) << ',' << CsvLog::num(r.seconds);
+    << r.test_episodes << ',' << CsvLog::num(r.band_fraction) << ',' << CsvLog::num(r.seconds) << ','
+    << CsvLog::num(r.fit_r2) << ',' << CsvLog::num(r.fit_rms_mN);
   return o.str();
 }
 
@@ -231,18 +257,23 @@ std::vector<SweepRow> read_sweep_csv(const std::string& path) {
   std::vector<SweepRow> rows;
   std::size_t pos = 0;
   bool header = true;
+  std::size_t cells = 21;
   while (pos < text.size()) {
     const std::size_t nl = text.find('\n', pos);
     if (nl == std::string::npos) break;  // a half-written last line: ignored
     const std::string line = text.substr(pos, nl - pos);
     pos = nl + 1;
     if (header) {
-      if (line != sweep_csv_header()) throw InputError(path + ": not a sweep.csv of this version (header differs)");
+      if (line == sweep_csv_header_without_fit())
+        cells = 19;
+      else if (line != sweep_csv_header())
+        throw InputError(path + ": not a sweep.csv of this version (header differs)");
       header = false;
       continue;
     }
     const std::vector<std::string> c = split(line);
-    if (c.size() != 19) throw InputError(path + ": a row has " + std::to_string(c.size()) + " cells, expected 19");
+    if (c.size() != cells)
+      throw InputError(path + ": a row has " + std::to_string(c.size()) + " cells, expected " + std::to_string(cells));
     SweepRow r;
     r.point = {static_cast<int>(to_double(c[0], path)), to_double(c[4], path), to_double(c[5], path)};
     try {
@@ -260,6 +291,7 @@ std::vector<SweepRow> read_sweep_csv(const std::string& path) {
     r.test_episodes = static_cast<int>(to_double(c[16], path));
     r.band_fraction = to_double(c[17], path);
     r.seconds = to_double(c[18], path);
+    if (cells == 21) r.fit_r2 = to_double(c[19], path), r.fit_rms_mN = to_double(c[20], path);
     rows.push_back(r);
   }
   return rows;
@@ -287,6 +319,14 @@ SweepSummary run_sweep(const std::shared_ptr<SimulatorPool>& sims, const TaskCon
                                             : "); choose another -o or pass --force to start afresh"));
     if (same && (!options.force || options.report_only)) {
       done = read_sweep_csv(csv.string());
+      if (!options.report_only) {
+        std::ifstream head(csv, std::ios::binary);
+        std::string first;
+        std::getline(head, first);
+        if (first == sweep_csv_header_without_fit())
+          throw InputError(csv.string() + ": is a sweep.csv of the previous version (no fit_r2, fit_rms_mN columns); "
+                           "report it with --report, or choose another -o or pass --force to start afresh");
+      }
       // Cut a half-written last line, so appends start on a fresh line (not when only reporting:
       // a sweep may still be appending).
       if (!options.report_only) {

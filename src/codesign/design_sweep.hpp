@@ -1,7 +1,8 @@
 #pragma once
-// The design landscape: every design on a pressure grid, each with three tuned baselines —
-// the best fixed base angle θ0, the PID on the measured force (oracle) and the PID on the strain
-// ε (the policy's signal) — tuned on tuning phases and tested on disjoint evaluation phases.
+// The design landscape: every design on a pressure grid, each with four tuned baselines —
+// the best fixed base angle θ0, the PID on the measured force (oracle), the PID on the strain
+// ε (the policy's signal) and the PID on the force estimated from ε and the base angle θ
+// (pid_tuning.hpp) — tuned on tuning phases and tested on disjoint evaluation phases.
 //
 // run_sweep() writes DIR/sweep.csv, one row per (design, pressures, controller), appended and
 // flushed as each row is finished; started again on the same DIR with the same config, it skips
@@ -9,6 +10,7 @@
 // units (design, pressures) run in parallel, each single-threaded; a progress line is printed
 // after each unit. At the end it writes the heat-map tables DIR/heatmap_n<N>_<controller>.dat
 // (l × w, the best test return over the pressure grid).
+#include <cmath>
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -40,15 +42,15 @@ FixedThetaTuning tune_fixed_theta(const std::shared_ptr<SimulatorPool>& sims, co
                                   const EpisodeSetup& setup, const FixedThetaConfig& config, int tuning_phases,
                                   int test_episodes, std::size_t threads = 1);
 
-enum class SweepController { FixedTheta, PidForce, PidStrain };
-const char* to_string(SweepController c);
+enum class SweepController { FixedTheta, PidForce, PidStrain, PidEstimate };
+const char* to_string(SweepController c);  // "fixed_theta", "pid_force", "pid_strain", "pid_estimate"
 SweepController sweep_controller_from_name(const std::string& name);  // else std::invalid_argument
 
 // [sweep] of a config.
 struct SweepConfig {
   std::vector<double> pressures_kPa{0.0};  // per chamber; two-chamber designs take every pair
   std::vector<SweepController> controllers{SweepController::FixedTheta, SweepController::PidForce,
-                                           SweepController::PidStrain};
+                                           SweepController::PidStrain, SweepController::PidEstimate};
   FixedThetaConfig fixed_theta;
   int first_design = 0, last_design = 109;
   void validate() const;  // std::invalid_argument naming the field
@@ -67,6 +69,7 @@ struct SweepRow {
   double theta0_rad = 0.0;           // fixed θ
   PidGains gains;                    // PIDs
   double setpoint = 0.0;             // PIDs: F_t (mN) or ε_ref
+  double fit_r2 = NAN, fit_rms_mN = NAN;  // estimate PID: the fit of F̂ (NaN for the others)
   double tuning_return = 0.0;
   int evaluations = 0;
   double test_return = 0.0, test_std = 0.0, band_fraction = 0.0;
@@ -92,8 +95,11 @@ struct SweepSummary {
 SweepSummary run_sweep(const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task, const SweepConfig& sweep,
                        const PidTuningConfig& pid, const SweepOptions& options);
 
-// sweep.csv (header + rows) reading and writing, for resuming and for tests.
+// sweep.csv (header + rows) reading and writing, for resuming and for tests. The reader also
+// takes a sweep.csv of the previous version (without the fit_r2, fit_rms_mN columns; those are
+// then NaN), so `--report` works on it; run_sweep refuses to append to one.
 std::string sweep_csv_header();
+std::string sweep_csv_header_without_fit();  // the previous version's header
 std::string sweep_csv_line(const SweepRow& r);
 std::vector<SweepRow> read_sweep_csv(const std::string& path);  // complete lines only
 

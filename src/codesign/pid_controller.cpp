@@ -37,12 +37,31 @@ double PidController::act(double e) {
   return std::clamp(u_out, -1.0, 1.0);
 }
 
-const char* to_string(PidSignal s) { return s == PidSignal::Force ? "force" : "strain"; }
+namespace {
+
+// The one table of signal names.
+struct SignalName {
+  PidSignal signal;
+  const char* name;
+};
+constexpr SignalName kSignalNames[] = {
+    {PidSignal::Force, "force"}, {PidSignal::Strain, "strain"}, {PidSignal::Estimate, "estimate"}};
+
+}  // namespace
+
+const char* to_string(PidSignal s) {
+  for (const SignalName& n : kSignalNames)
+    if (n.signal == s) return n.name;
+  return "?";
+}
 
 PidSignal pid_signal_from_name(const std::string& name) {
-  if (name == "force") return PidSignal::Force;
-  if (name == "strain") return PidSignal::Strain;
-  throw std::invalid_argument("unknown PID signal '" + name + "'; allowed: force, strain");
+  std::string allowed;
+  for (const SignalName& n : kSignalNames) {
+    if (name == n.name) return n.signal;
+    allowed += (allowed.empty() ? "" : ", ") + std::string(n.name);
+  }
+  throw std::invalid_argument("unknown PID signal '" + name + "'; allowed: " + allowed);
 }
 
 }  // namespace codesign::coopt

@@ -10,12 +10,16 @@
 // towards its target without a steady offset for a constant disturbance; I and D help against
 // the plate's moving disturbance.
 //
-// Signals (PidSignal), both scaled to "band units" so one gain range serves both:
+// Signals (PidSignal), all scaled to "band units" so one gain range serves them all:
 //   Force   e = (F_t − F)/(tol·F_t)        F measured directly: an oracle sensor the policy lacks;
 //                                          e = ±1 at the band's edges.
 //   Strain  e = −(ε_ref − ε)/strain_scale  ε is the policy's own signal. ε falls as F rises
 //                                          (−4.7·10⁻⁶ per mN on j21, docs/codesign.md), hence the
 //                                          minus; strain_scale is ε per band half-width.
+//   Estimate e = (F_t − F̂)/(tol·F_t)       F̂(ε, θ) = (ε − c0 − c2·θ)/c1: the force estimated from
+//                                          the strain gauge and the base-angle encoder, the robot's
+//                                          own sensors (force_estimator.hpp, fitted by
+//                                          estimator_calibration.hpp).
 // Turning the base up (θ larger) presses the tip harder onto the plate (F rises; measured:
 // tests/codesign/pid_tuning_test.cpp, ForceRisesWithTheBaseAngle), so a positive error (F below
 // target) asks for a positive action, and the gains are non-negative.
@@ -48,8 +52,8 @@ class PidController {
   bool first_ = true;
 };
 
-enum class PidSignal { Force, Strain };
-const char* to_string(PidSignal s);
-PidSignal pid_signal_from_name(const std::string& name);  // "force" | "strain", else invalid_argument
+enum class PidSignal { Force, Strain, Estimate };
+const char* to_string(PidSignal s);  // "force", "strain", "estimate"
+PidSignal pid_signal_from_name(const std::string& name);  // one of to_string's names, else invalid_argument
 
 }  // namespace codesign::coopt

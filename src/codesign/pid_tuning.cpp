@@ -46,11 +46,16 @@ void PidTuningConfig::validate() const {
     throw std::invalid_argument("pid: strain_scale must be > 0");
   if (tuning_phases < 1) throw std::invalid_argument("pid: tuning_phases must be >= 1");
   if (test_episodes < 1) throw std::invalid_argument("pid: test_episodes must be >= 1");
+  if (estimator_fit_episodes < 1) throw std::invalid_argument("pid: estimator_fit_episodes must be >= 1");
 }
 
 double pid_error(const WhiskerPid& pid, const fem::Sensors& s, const TaskConfig& task) {
-  if (pid.signal == PidSignal::Force)
-    return (pid.setpoint - s.contact_force_mN) / (task.tolerance_fraction * task.target_force_mN);
+  const double band = task.tolerance_fraction * task.target_force_mN;
+  switch (pid.signal) {
+    case PidSignal::Force: return (pid.setpoint - s.contact_force_mN) / band;
+    case PidSignal::Estimate: return (pid.setpoint - pid.estimator.force_mN(s.axial_strain, s.theta_rad)) / band;
+    case PidSignal::Strain: break;
+  }
   return -(pid.setpoint - s.axial_strain) / pid.strain_scale;
 }
 
@@ -97,9 +102,14 @@ PidTuningResult tune_whisker_pid(const std::shared_ptr<SimulatorPool>& sims, con
   pid.signal = signal;
   pid.strain_scale = config.strain_scale;
   PidBox box = config.box;
-  if (signal == PidSignal::Force) {
+  if (signal == PidSignal::Force || signal == PidSignal::Estimate) {
     pid.setpoint = task.target_force_mN;
     box.offset = {0.0, 0.0};
+    if (signal == PidSignal::Estimate) {
+      out.estimator = calibrate_force_estimator(sims, task, setup, config.estimator_fit_episodes,
+                                                config.tuning_phases, threads);
+      pid.estimator = out.estimator.fit.estimator;
+    }
   } else {
     out.strain_calibrated = calibrate_strain_setpoint(sims, task, setup, evaluation_phase(0, config.tuning_phases,
                                                                                            kTuningPhaseOffset));

@@ -13,12 +13,19 @@
 // (one episode with the base held at θ = 0 at the first tuning phase, least-squares line of ε
 // against the measured F, read at F_t), and the offset, in band units, is tuned with the gains
 // (ε also moves with θ at a fixed F, so the calibrated value is only a starting point).
+// The estimate PID first fits its force estimator F̂(ε, θ) on `estimator_fit_episodes` open-loop
+// episodes at the tuning phases (estimator_calibration.hpp), then tunes its gains with the
+// setpoint F_t like the force PID. No setpoint offset is tuned: the fit's residual has zero mean
+// over its samples, and in closed loop F averaged 20.00 mN over the first test episode of j47
+// (docs/baselines.md), so there is no bias for an offset to remove.
 #include <array>
 #include <cstddef>
 #include <functional>
 #include <memory>
 
+#include "codesign/estimator_calibration.hpp"
 #include "codesign/evaluation.hpp"
+#include "codesign/force_estimator.hpp"
 #include "codesign/nlopt_search.hpp"
 #include "codesign/pid_controller.hpp"
 
@@ -53,6 +60,7 @@ struct PidTuningConfig {
   double strain_scale = 1.9e-5;     // ε per band half-width (j21: 4.7e-6 per mN × 4 mN)
   int tuning_phases = 2;
   int test_episodes = 10;
+  int estimator_fit_episodes = 25;  // open-loop episodes of the estimate PID's fit
   SearchOptions search{LocalMethod::Bobyqa, 2, 24, 1e-3, 1e-4};
   // Throws std::invalid_argument naming the field and its range.
   void validate() const;
@@ -64,6 +72,7 @@ struct WhiskerPid {
   PidGains gains;
   double setpoint = 0.0;
   double strain_scale = 1.9e-5;  // strain signal only
+  ForceEstimator estimator;      // estimate signal only
 };
 
 // The error of the PID's signal in band units (pid_controller.hpp).
@@ -78,6 +87,7 @@ struct PidTuningResult {
   WhiskerPid pid;
   double strain_calibrated = 0.0;  // ε_cal (strain signal)
   double offset = 0.0;             // tuned setpoint offset (strain signal), band units
+  EstimatorCalibration estimator;  // the fit of F̂ (estimate signal)
   double tuning_return = 0.0;      // mean return over the tuning phases
   int evaluations = 0;             // objective calls (each tuning_phases episodes)
   DesignEvaluation test;           // over test_episodes evaluation phases

@@ -68,6 +68,16 @@ TEST(BaselinesCli, BadPidOrSweepConfigIsOneMessageAndWritesNothing) {
   EXPECT_EQ(r.status, 2);
 }
 
+TEST(BaselinesCli, BadEstimatorFitEpisodesIsOneMessageAndWritesNothing) {
+  const fs::path dir = scratch("badfit");
+  write(dir / "bad_fit.toml", "[pid]\nestimator_fit_episodes = 0\n");
+  const auto r = run_codesign("baseline pid --config " + (dir / "bad_fit.toml").string() + " -o " + (dir / "b").string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_EQ(r.output, "codesign: error: " + (dir / "bad_fit.toml").string() +
+                          ": pid.estimator_fit_episodes: value 0 is out of range; allowed [1, 1000]\n");
+  EXPECT_FALSE(fs::exists(dir / "b"));
+}
+
 TEST(BaselinesCli, RefineNeedsARunFolder) {
   const fs::path dir = scratch("norun");
   const auto r = run_codesign("refine --run " + dir.string());

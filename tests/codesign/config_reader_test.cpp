@@ -94,7 +94,7 @@ std::string pid_sweep_error(const std::string& text) {
 TEST(ConfigReader, PidAndSweepTables) {
   io::TableReader r = io::TableReader::from_string(
       "[pid]\nkp_range = [0.0, 0.3]\nmethod = \"cobyla\"\nstarts = 2\nmax_evals = 10\n"
-      "[sweep]\npressures_kPa = [0.0, 20.0]\npid_strain = false\n",
+      "[sweep]\npressures_kPa = [0.0, 20.0]\npid_strain = false\npid_estimate = false\n",
       "run.toml");
   const PidTuningConfig p = read_pid_config(r);
   EXPECT_EQ(p.box.kp[1], 0.3);
@@ -117,9 +117,28 @@ TEST(ConfigReader, BadPidAndSweepValuesNameFileKeyAndRange) {
   EXPECT_NE(pid_sweep_error("[pid]\nmethod = \"newton\"\n").find("pid.method"), std::string::npos);
   EXPECT_EQ(pid_sweep_error("[sweep]\npressures_kPa = [0.0, 25.0]\n"),
             "run.toml: sweep.pressures_kPa: element 1 = 25 is out of range; allowed [0, 20]");
-  EXPECT_EQ(pid_sweep_error("[sweep]\nfixed_theta = false\npid_force = false\npid_strain = false\n"),
-            "run.toml: sweep.pid_strain: fixed_theta, pid_force and pid_strain are all false: nothing to sweep");
+  EXPECT_EQ(pid_sweep_error("[sweep]\nfixed_theta = false\npid_force = false\npid_strain = false\npid_estimate = false\n"),
+            "run.toml: sweep.pid_estimate: fixed_theta, pid_force, pid_strain and pid_estimate are all false: nothing "
+            "to sweep");
   EXPECT_NE(pid_sweep_error("[sweep]\nfirst_design = 50\nlast_design = 40\n").find("sweep.last_design"),
+            std::string::npos);
+}
+
+TEST(ConfigReader, EstimatorFitEpisodesAndTheEstimateController) {
+  io::TableReader r = io::TableReader::from_string("[pid]\nestimator_fit_episodes = 7\n", "run.toml");
+  EXPECT_EQ(read_pid_config(r).estimator_fit_episodes, 7);
+  EXPECT_EQ(PidTuningConfig{}.estimator_fit_episodes, 25);
+  // The sweep's defaults list every controller, the estimate PID last.
+  io::TableReader d = io::TableReader::from_string("", "run.toml");
+  EXPECT_EQ(read_sweep_config(d, TaskConfig{}).controllers.back(), SweepController::PidEstimate);
+  io::TableReader only = io::TableReader::from_string(
+      "[sweep]\nfixed_theta = false\npid_force = false\npid_strain = false\n", "run.toml");
+  EXPECT_EQ(read_sweep_config(only, TaskConfig{}).controllers, (std::vector<SweepController>{SweepController::PidEstimate}));
+  EXPECT_EQ(pid_sweep_error("[pid]\nestimator_fit_episodes = 0\n"),
+            "run.toml: pid.estimator_fit_episodes: value 0 is out of range; allowed [1, 1000]");
+  EXPECT_EQ(pid_sweep_error("[pid]\nestimator_fit_episodes = 1001\n"),
+            "run.toml: pid.estimator_fit_episodes: value 1001 is out of range; allowed [1, 1000]");
+  EXPECT_NE(pid_sweep_error("[pid]\nestimator_fit_episodes = 2.5\n").find("pid.estimator_fit_episodes"),
             std::string::npos);
 }
 

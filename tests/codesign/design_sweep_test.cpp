@@ -3,6 +3,7 @@
 // another config. The sweep itself runs on a shortened task (5 decisions) so the test stays fast.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -63,20 +64,88 @@ TEST(DesignSweep, CsvRowsReadBackExactly) {
   SweepRow b = a;
   b.controller = SweepController::FixedTheta;
   b.theta0_rad = 0.020735;
+  SweepRow e = a;
+  e.controller = SweepController::PidEstimate;
+  e.setpoint = 20.0;
+  e.fit_r2 = 0.9973;
+  e.fit_rms_mN = 0.6125;
   const fs::path csv = dir / "sweep.csv";
   // The last line lacks its newline: a row cut by a kill, which must be ignored.
   std::ofstream(csv, std::ios::binary) << sweep_csv_header() << '\n'
                                        << sweep_csv_line(a) << '\n'
                                        << sweep_csv_line(b) << '\n'
+                                       << sweep_csv_line(e) << '\n'
                                        << sweep_csv_line(a).substr(0, 20);
   const std::vector<SweepRow> r = read_sweep_csv(csv.string());
-  ASSERT_EQ(r.size(), 2u);
+  ASSERT_EQ(r.size(), 3u);
   EXPECT_EQ(sweep_csv_line(r[0]), sweep_csv_line(a));
   EXPECT_EQ(sweep_csv_line(r[1]), sweep_csv_line(b));
+  EXPECT_EQ(sweep_csv_line(r[2]), sweep_csv_line(e));
+  EXPECT_TRUE(std::isnan(r[0].fit_r2));  // only the estimate PID has a fit
+  EXPECT_EQ(r[2].controller, SweepController::PidEstimate);
+  EXPECT_EQ(r[2].fit_r2, 0.9973);
+  EXPECT_EQ(r[2].fit_rms_mN, 0.6125);
   EXPECT_EQ(r[0].point.p1_kPa, 1.0 / 3.0);  // %.17g: bit-identical
   EXPECT_EQ(r[0].gains.kd, 1e-17);
   std::ofstream(csv, std::ios::binary) << "j,n\n1,1\n";
   EXPECT_THROW(read_sweep_csv(csv.string()), InputError);
+  // A sweep.csv of the previous version (19 columns, no fit): read, the fit NaN.
+  const std::string old_line = sweep_csv_line(b).substr(0, sweep_csv_line(b).rfind(',', sweep_csv_line(b).rfind(',') - 1));
+  std::ofstream(csv, std::ios::binary | std::ios::trunc) << sweep_csv_header_without_fit() << '\n' << old_line << '\n';
+  const std::vector<SweepRow> old = read_sweep_csv(csv.string());
+  ASSERT_EQ(old.size(), 1u);
+  EXPECT_EQ(old[0].theta0_rad, 0.020735);
+  EXPECT_TRUE(std::isnan(old[0].fit_rms_mN));
+}
+
+TEST(DesignSweep, EstimatePidRowsCarryTheFitAndGetAHeatMap) {
+  // The estimate PID through the sweep on a shortened task (10 decisions): its row holds the
+  // fit's R² and rms, and its heat-map table is written beside the others.
+  const fs::path dir = fresh_dir("estimate");
+  fem::SceneConfig scene;
+  scene.settle_steps = 5;
+  auto sims = std::make_shared<SimulatorPool>(fem::WhiskerModelSpec{}, scene, fem::SolverConfig{});
+  TaskConfig task;
+  task.episode_steps = 50;
+  SweepConfig sweep;
+  sweep.first_design = sweep.last_design = 21;
+  sweep.controllers = {SweepController::PidEstimate};
+  PidTuningConfig pid;
+  pid.tuning_phases = 1;
+  pid.test_episodes = 1;
+  pid.estimator_fit_episodes = 4;
+  pid.search.starts = 1;
+  pid.search.max_evals = 2;
+  SweepOptions o;
+  o.dir = dir.string();
+  o.config_text = "# estimate sweep\n";
+  o.threads = 1;
+  o.progress = false;
+  const SweepSummary s = run_sweep(sims, task, sweep, pid, o);
+  ASSERT_EQ(s.rows.size(), 1u);
+  EXPECT_EQ(s.rows[0].controller, SweepController::PidEstimate);
+  EXPECT_EQ(s.rows[0].setpoint, task.target_force_mN);
+  EXPECT_GT(s.rows[0].fit_r2, 0.5);
+  EXPECT_LE(s.rows[0].fit_r2, 1.0);
+  EXPECT_GT(s.rows[0].fit_rms_mN, 0.0);
+  EXPECT_TRUE(fs::exists(dir / "heatmap_n1_pid_estimate.dat"));
+}
+
+TEST(DesignSweep, ControllerNamesRoundTrip) {
+  for (SweepController c : {SweepController::FixedTheta, SweepController::PidForce, SweepController::PidStrain,
+                            SweepController::PidEstimate})
+    EXPECT_EQ(sweep_controller_from_name(to_string(c)), c);
+  EXPECT_STREQ(to_string(SweepController::PidEstimate), "pid_estimate");
+  try {
+    sweep_controller_from_name("pid_oracle");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(),
+                 "unknown sweep controller 'pid_oracle'; allowed: fixed_theta, pid_force, pid_strain, pid_estimate");
+  }
+  for (PidSignal s : {PidSignal::Force, PidSignal::Strain, PidSignal::Estimate})
+    EXPECT_EQ(pid_signal_from_name(to_string(s)), s);
+  EXPECT_THROW(pid_signal_from_name("oracle"), std::invalid_argument);
 }
 
 TEST(DesignSweep, RestartSkipsFinishedRowsAndRefusesAnotherConfig) {
