@@ -71,22 +71,15 @@ int run_main_job(const RunCliOptions& o) {
   if (r.stop_signal != 0) return 128 + r.stop_signal;  // as a shell reports a process the signal ended
   if (!r.completed) return 4;
   // A signal after result.toml was written skips the frames and figures still to draw.
-  if (const int st = coopt::stop_after_run(out, setup.render.enabled ? "its frames and figures" : "its figures",
-                                           "draw them with `codesign figures --run " + out + "`" +
-                                               (setup.render.enabled ? " and `codesign render --run " + out + "`" : ""));
-      st != 0)
-    return st;
+  const bool frames = setup.render.enabled, figures = !o.no_figures;
+  if (const int st = coopt::stop_after_run(out, frames, figures); st != 0) return st;
   // The first evaluation episodes of d* and the runner-up as PNG frames ([render], docs/rendering.md).
-  if (setup.render.enabled)
+  if (frames)
     coopt::render_run_frames(out, std::make_shared<coopt::SimulatorPool>(s.spec, s.scene, s.solver), s.loop.task,
                              s.loop.codesign.eval_episodes, setup.render, /*force=*/true);
+  if (const int st = coopt::stop_after_run(out, false, figures); st != 0) return st;
   // The paper's figures from the finished run (RUN/figures/); a problem there is a warning only.
-  if (!o.no_figures) {
-    if (const int st = coopt::stop_after_run(out, "its figures", "draw them with `codesign figures --run " + out + "`");
-        st != 0)
-      return st;
-    draw_run_figures(out);
-  }
+  if (figures) draw_run_figures(out);
   return 0;
 }
 

@@ -324,11 +324,20 @@ std::unique_ptr<io::RunLock> lock_run_folder_for_output(const std::string& dir, 
   return lock_run_folder(dir, /*only_if_exists=*/true);
 }
 
-int stop_after_run(const std::string& dir, const std::string& remaining, const std::string& how) {
+int stop_after_run(const std::string& dir, bool frames_left, bool figures_left) {
   const int sig = stop_signal();
-  if (sig == 0) return 0;
-  std::fprintf(stderr, "codesign: %s: the run in %s is complete (result.toml); stopped before %s: %s\n",
-               signal_name(sig).c_str(), dir.c_str(), remaining.c_str(), how.c_str());
+  if (sig == 0 || (!frames_left && !figures_left)) return 0;
+  std::string what, how;
+  if (frames_left) {
+    what = "its frames";
+    how = "`codesign render --run " + dir + " -o " + (fs::path(dir) / "frames" / "best").string() + "`";
+  }
+  if (figures_left) {
+    what += what.empty() ? "its figures" : " and figures";
+    how += (how.empty() ? "" : " and ") + ("`codesign figures --run " + dir + "`");
+  }
+  std::fprintf(stderr, "codesign: %s: the run in %s is complete (result.toml); %s skipped: draw them with %s\n",
+               signal_name(sig).c_str(), dir.c_str(), what.c_str(), how.c_str());
   return 128 + sig;
 }
 

@@ -93,9 +93,10 @@ std::unique_ptr<io::RunLock> lock_run_folder(const std::string& dir, bool only_i
 // into the run folder), else null: it only reads DIR.
 std::unique_ptr<io::RunLock> lock_run_folder_for_output(const std::string& dir, const std::string& out);
 
-// After the run: if a signal asked to stop, prints one line saying what of `remaining` (e.g.
-// "frames and figures") is left undone and how to make it, and returns the exit status 128 +
-// signal; otherwise returns 0.
-int stop_after_run(const std::string& dir, const std::string& remaining, const std::string& how);
+// After a completed run, before drawing its frames and/or figures (the flags say which are
+// still to come): if a signal asked to stop, prints one line saying that the run is complete,
+// what is skipped and the commands that draw it, and returns 128 + signal; otherwise (or with
+// nothing left to skip) returns 0.
+int stop_after_run(const std::string& dir, bool frames_left, bool figures_left);
 
 }  // namespace codesign::coopt
