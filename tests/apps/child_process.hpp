@@ -44,6 +44,12 @@ class Child {
 
   pid_t pid() const { return pid_; }
   void signal(int signo) const { ::kill(pid_, signo); }
+  // SIGSTOP, and back only once the process has stopped (kill alone may return before).
+  bool pause() {
+    ::kill(pid_, SIGSTOP);
+    int st = 0;
+    return ::waitpid(pid_, &st, WUNTRACED) == pid_ && WIFSTOPPED(st);
+  }
 
   // True once the process has ended (reaped).
   bool finished() {

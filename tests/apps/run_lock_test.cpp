@@ -56,7 +56,7 @@ TEST(RunLock, LiveFolderRefusesEveryOtherWriterAndAStaleLockIsTakenOver) {
   ASSERT_TRUE(live.wait_until([&] { return fs::exists(run / "checkpoint.bin") && fs::exists(run / ".lock"); }))
       << live.output();
   // Hold the live run still, so that its folder does not change while the others try.
-  live.signal(SIGSTOP);
+  ASSERT_TRUE(live.pause());
   const auto before = snapshot(run);
   const std::string holder = "pid " + std::to_string(live.pid()) + " on host " + host();
   for (const std::string& args :
