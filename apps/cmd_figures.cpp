@@ -13,6 +13,8 @@
 
 #include "base/errors.hpp"
 #include "codesign/figures.hpp"
+#include "codesign/run.hpp"
+#include "io/run_lock.hpp"
 #include "commands.hpp"
 
 #ifndef CODESIGN_PLOTS_DIR
@@ -50,6 +52,8 @@ coopt::FigureOptions to_options(const FiguresCliOptions& c) {
 }
 
 int figures_main(const FiguresCliOptions& c) {
+  // It writes RUN/figures/: not while a run writes the folder (draw_run_figures runs under the run's lock).
+  const std::unique_ptr<io::RunLock> lock = coopt::lock_run_folder(c.run, /*only_if_exists=*/true);
   const coopt::FiguresReport report = coopt::make_figures(to_options(c));
   int failed = 0;
   for (const coopt::FigureOutcome& f : report.figures) {

@@ -12,9 +12,11 @@
 
 #include "base/errors.hpp"
 #include "codesign/refine.hpp"
+#include "codesign/run.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
+#include "io/run_lock.hpp"
 #include "io/toml_reader.hpp"
 #include "rl/policy_file.hpp"
 #include "sim_setup.hpp"
@@ -36,6 +38,8 @@ struct RefineCliOptions {
 
 int run_refine(const RefineCliOptions& o) {
   const fs::path dir(o.run);
+  // It rewrites DIR/result.toml: not while a run writes the folder.
+  const std::unique_ptr<io::RunLock> lock = coopt::lock_run_folder(o.run, /*only_if_exists=*/true);
   for (const char* f : {"config.toml", "policy.bin", "result.toml"})
     if (!fs::exists(dir / f))
       throw InputError(dir.string() + ": has no " + f + "; refine needs a finished co-design run folder");

@@ -24,8 +24,10 @@
 #include "base/errors.hpp"
 #include "codesign/episode_render.hpp"
 #include "codesign/evaluation.hpp"
+#include "codesign/run.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
+#include "io/run_lock.hpp"
 #include "sim_setup.hpp"
 
 namespace codesign::app {
@@ -75,6 +77,8 @@ int run_render(const RenderCliOptions& o) {
     throw InputError("command line: with --run the designs come from result.toml; --design, --pressures, "
                      "--compare and --sim go with --config");
 
+  // Frames written into a run folder: not while a run writes it.
+  const std::unique_ptr<io::RunLock> lock = o.run.empty() ? nullptr : coopt::lock_run_folder_for_output(o.run, o.out);
   // Refuse before simulating (write_frames checks again before writing).
   std::error_code ec;
   if (!o.force && fs::exists(fs::path(o.out) / "frame_0000.png", ec))

@@ -14,8 +14,10 @@
 #include "base/errors.hpp"
 #include "codesign/episode_render.hpp"
 #include "codesign/run.hpp"
+#include "codesign/stop_signals.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
+#include "io/run_lock.hpp"
 #include "io/toml_reader.hpp"
 #include "sim_setup.hpp"
 
@@ -51,7 +53,12 @@ int run_main_job(const RunCliOptions& o) {
   s.solver = setup.solver;
   s.loop = {setup.task, setup.codesign, setup.ppo};
   s.config_text = io::TableReader::input_text(o.config);
+  // SIGTERM / SIGINT stop the run at the next iteration's end with a checkpoint (stop_signals.hpp),
+  // and the run folder stays locked from here through the frames and figures.
+  const coopt::StopSignals signals;
+  const std::unique_ptr<io::RunLock> lock = coopt::lock_run_folder(out, /*only_if_exists=*/o.resume);
   coopt::RunOptions ro;
+  ro.lock = lock.get();
   ro.dir = out;
   ro.resume = o.resume;
   ro.force = o.force;
@@ -61,13 +68,18 @@ int run_main_job(const RunCliOptions& o) {
   ro.telemetry_url = o.telemetry ? *o.telemetry : setup.telemetry_url;
   ro.telemetry_train_every = setup.telemetry_train_every;
   const coopt::RunResult r = coopt::run_codesign(s, ro);
+  if (r.stop_signal != 0) return 128 + r.stop_signal;  // as a shell reports a process the signal ended
   if (!r.completed) return 4;
+  // A signal after result.toml was written skips the frames and figures still to draw.
+  const bool frames = setup.render.enabled, figures = !o.no_figures;
+  if (const int st = coopt::stop_after_run(out, frames, figures); st != 0) return st;
   // The first evaluation episodes of d* and the runner-up as PNG frames ([render], docs/rendering.md).
-  if (setup.render.enabled)
+  if (frames)
     coopt::render_run_frames(out, std::make_shared<coopt::SimulatorPool>(s.spec, s.scene, s.solver), s.loop.task,
                              s.loop.codesign.eval_episodes, setup.render, /*force=*/true);
+  if (const int st = coopt::stop_after_run(out, false, figures); st != 0) return st;
   // The paper's figures from the finished run (RUN/figures/); a problem there is a warning only.
-  if (!o.no_figures) draw_run_figures(out);
+  if (figures) draw_run_figures(out);
   return 0;
 }
 

@@ -1,7 +1,9 @@
 // Entry point of `codesign`: builds the command line from the sub-commands in apps/,
-// runs the selected one, and turns user-input errors into one message and exit status 2.
+// runs the selected one, and turns user-input errors and files that cannot be written into one
+// message and exit status 2.
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -79,6 +81,12 @@ int main(int argc, char** argv) {
     }
     return run();
   } catch (const InputError& e) {
+    std::fprintf(stderr, "codesign: error: %s\n", e.what());
+    return 2;
+  } catch (const FileError& e) {  // a file that could not be written: disk full, permissions
+    std::fprintf(stderr, "codesign: error: %s\n", e.what());
+    return 2;
+  } catch (const std::filesystem::filesystem_error& e) {  // e.g. a folder that cannot be created
     std::fprintf(stderr, "codesign: error: %s\n", e.what());
     return 2;
   } catch (const std::exception& e) {

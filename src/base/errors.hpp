@@ -12,4 +12,13 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A file the program could not write or create (disk full, no permission, a read-only file
+// system): the message names the file and the system's reason (strerror), and says what was
+// left as it was. `codesign` prints it like an InputError and exits with status 2: the run did
+// not fail, its surroundings did.
+class FileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace codesign

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -9,6 +10,7 @@
 #include <numbers>
 
 #include "base/errors.hpp"
+#include "base/file_write.hpp"
 #include "fem/design.hpp"
 #include "fem/mesh_ops.hpp"
 #include "io/atomic_file.hpp"
@@ -269,7 +271,7 @@ int write_frames(const fs::path& dir, const std::vector<std::vector<RecordedFram
     io::write_png((dir / name).string(), renderer.render(p, scale, style), png);
   }
   csv.close();
-  if (!csv) throw InputError((dir / "frames.csv").string() + ": write failed");
+  if (!csv) throw FileError(file_error_text((dir / "frames.csv").string(), "cannot write", errno));
   return static_cast<int>(frames);
 }
 

@@ -20,9 +20,11 @@
 #include "codesign/config_writer.hpp"
 #include "codesign/evaluation.hpp"
 #include "codesign/failure_count.hpp"
+#include "codesign/stop_signals.hpp"
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_log.hpp"
+#include "io/run_lock.hpp"
 #include "io/telemetry.hpp"
 #include "rl/policy_file.hpp"
 
@@ -299,9 +301,51 @@ void toml_design(std::ostream& out, const std::string& section, const DesignEval
 
 }  // namespace
 
+std::unique_ptr<io::RunLock> lock_run_folder(const std::string& dir, bool only_if_exists) {
+  std::error_code ec;
+  if (only_if_exists && !fs::is_directory(dir, ec)) return nullptr;
+  auto lock = std::make_unique<io::RunLock>(dir);
+  if (!lock->stale_holder().empty())
+    std::fprintf(stderr, "codesign: %s was left by %s, which no longer runs (killed); taking the run folder over\n",
+                 lock->path().c_str(), lock->stale_holder().c_str());
+  return lock;
+}
+
+std::unique_ptr<io::RunLock> lock_run_folder_for_output(const std::string& dir, const std::string& out) {
+  std::error_code ec;
+  auto normal = [&ec](const std::string& p) {
+    fs::path n = fs::weakly_canonical(p, ec).lexically_normal();
+    return n.has_filename() ? n : n.parent_path();  // "runs/q/" as "runs/q"
+  };
+  const fs::path d = normal(dir), o = normal(out);
+  if (ec) return nullptr;
+  const auto [end, _] = std::mismatch(d.begin(), d.end(), o.begin(), o.end());
+  if (end != d.end()) return nullptr;
+  return lock_run_folder(dir, /*only_if_exists=*/true);
+}
+
+int stop_after_run(const std::string& dir, bool frames_left, bool figures_left) {
+  const int sig = stop_signal();
+  if (sig == 0 || (!frames_left && !figures_left)) return 0;
+  std::string what, how;
+  if (frames_left) {
+    what = "its frames";
+    how = "`codesign render --run " + dir + " -o " + (fs::path(dir) / "frames" / "best").string() + "`";
+  }
+  if (figures_left) {
+    what += what.empty() ? "its figures" : " and figures";
+    how += (how.empty() ? "" : " and ") + ("`codesign figures --run " + dir + "`");
+  }
+  std::fprintf(stderr, "codesign: %s: the run in %s is complete (result.toml); %s skipped: draw them with %s\n",
+               signal_name(sig).c_str(), dir.c_str(), what.c_str(), how.c_str());
+  return 128 + sig;
+}
+
 RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();
   const fs::path dir(options.dir);
+  // Taken before anything in DIR is looked at: a refused run reads and changes nothing.
+  const std::unique_ptr<io::RunLock> own_lock = options.lock ? nullptr : lock_run_folder(options.dir, options.resume);
   const fs::path ckpt_path = dir / "checkpoint.bin";
   // The resolved config (every key with the value used) is what the run folder keeps and what
   // checkpoints are tied to: resuming with the original file or with DIR/config.toml both match.
@@ -393,6 +437,20 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   };
   std::int64_t last_ckpt = loop.timesteps();
   RunResult result;
+  // A signal that asked to stop: one line on stderr saying where the run is and how to go on.
+  auto stopped = [&](int sig, const std::string& where) {
+    if (tty) std::printf("\n");
+    std::fflush(stdout);
+    std::fprintf(stderr, "codesign: %s: %s; checkpoint.bin holds t = %lld of %lld; continue with: "
+                 "codesign --config %s -o %s --resume\n",
+                 signal_name(sig).c_str(), where.c_str(), static_cast<long long>(loop.timesteps()),
+                 static_cast<long long>(T), (dir / "config.toml").string().c_str(), dir.string().c_str());
+    result.stop_signal = sig;
+    result.timesteps = loop.timesteps();
+    result.wall_s = elapsed();
+    report_telemetry(result);
+    return result;
+  };
   while (!loop.finished()) {
     iteration_start_t.store(loop.timesteps(), std::memory_order_relaxed);
     const IterationReport rep = loop.iterate();
@@ -424,6 +482,11 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
                   tty ? "   " : "\n");
       std::fflush(stdout);
     }
+    // The flag a SIGTERM / SIGINT set during this iteration (stop_signals.hpp).
+    if (const int sig = stop_signal(); sig != 0 && !loop.finished()) {
+      if (last_ckpt != loop.timesteps()) checkpoint();
+      return stopped(sig, "stopped after the iteration ending at t = " + std::to_string(rep.t));
+    }
     if (options.stop_after >= 0 && rep.t >= options.stop_after && !loop.finished()) {
       checkpoint();
       result.timesteps = rep.t;
@@ -434,6 +497,10 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   }
   if (tty) std::printf("\n");
   if (last_ckpt != loop.timesteps()) checkpoint();
+  // A signal now (or during the evaluation, checked after each design) stops before result.toml:
+  // training is complete and checkpointed, so --resume only runs the evaluation again.
+  const std::string in_evaluation = "stopped during the final evaluation (training is complete)";
+  if (const int sig = stop_signal(); sig != 0) return stopped(sig, in_evaluation);
 
   // ---- final evaluation: d* and the runner-up with the deterministic final policy
   const DesignDistribution& dist = loop.distribution();
@@ -468,6 +535,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     const PublishMeter::Scope timed(meter, static_cast<std::int64_t>(eb.trace.size()));
     publish_trace(*telemetry, eb, loop.timesteps());
   }
+  if (const int sig = stop_signal(); sig != 0) return stopped(sig, in_evaluation);
   std::optional<DesignEvaluation> er;
   if (has_runner) {
     er = evaluate_design(policy, sims, lc.task, runner, eo);
@@ -477,6 +545,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
       publish_trace(*telemetry, *er, loop.timesteps());
     }
   }
+  if (const int sig = stop_signal(); sig != 0) return stopped(sig, in_evaluation);
   rl::save_policy(dir / "policy.bin", model, obs_norm);
   result.wall_s = elapsed();
   const double wall_total = wall_before + result.wall_s;

@@ -1,11 +1,13 @@
 #include "io/csv_log.hpp"
 
+#include <cerrno>
 #include <filesystem>
 #include <stdexcept>
 
 #include <unistd.h>
 
 #include "base/errors.hpp"
+#include "base/file_write.hpp"
 
 namespace codesign::io {
 
@@ -28,13 +30,13 @@ CsvLog::CsvLog(std::string path, const std::vector<std::string>& columns, std::o
   const std::string header = join(columns);
   if (!resume_at) {
     f_ = std::fopen(path_.c_str(), "wb");
-    if (!f_) throw InputError(path_ + ": cannot create log file");
-    if (std::fputs(header.c_str(), f_) < 0) throw std::runtime_error(path_ + ": write failed");
+    if (!f_) throw FileError(file_error_text(path_, "cannot create log file", errno));
+    if (std::fputs(header.c_str(), f_) < 0) throw FileError(file_error_text(path_, "cannot write", errno));
     return;
   }
   check_resumable(path_, columns, *resume_at);
   f_ = std::fopen(path_.c_str(), "r+b");
-  if (!f_) throw InputError(path_ + ": cannot open log file to resume");
+  if (!f_) throw FileError(file_error_text(path_, "cannot open log file to resume", errno));
   if (::ftruncate(::fileno(f_), static_cast<off_t>(*resume_at)) != 0 ||
       std::fseek(f_, static_cast<long>(*resume_at), SEEK_SET) != 0) {
     std::fclose(f_);
@@ -70,11 +72,13 @@ void CsvLog::row(const std::vector<std::string>& cells) {
                            std::to_string(columns_));
   for (const std::string& c : cells)
     if (c.find_first_of(",\"\n") != std::string::npos) throw std::logic_error(path_ + ": cell needs quoting: " + c);
-  if (std::fputs(join(cells).c_str(), f_) < 0) throw std::runtime_error(path_ + ": write failed");
+  // A failed write may leave part of a row at the end; a resume cuts the log back to its
+  // checkpointed length, so only rows after the last checkpoint are at stake.
+  if (std::fputs(join(cells).c_str(), f_) < 0) throw FileError(file_error_text(path_, "cannot write", errno));
 }
 
 std::uint64_t CsvLog::flush() {
-  if (std::fflush(f_) != 0) throw std::runtime_error(path_ + ": flush failed");
+  if (std::fflush(f_) != 0) throw FileError(file_error_text(path_, "cannot write", errno));
   const long pos = std::ftell(f_);
   if (pos < 0) throw std::runtime_error(path_ + ": ftell failed");
   return static_cast<std::uint64_t>(pos);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "base/errors.hpp"
+#include "base/file_write.hpp"
 
 namespace codesign::rl {
 
@@ -136,21 +137,7 @@ void save_policy(const std::filesystem::path& path, const ActorCritic& model,
   }
   w.put<std::uint64_t>(fnv1a64(w.bytes));
 
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(w.bytes.data()),
-              static_cast<std::streamsize>(w.bytes.size()));
-    out.flush();
-    if (!out)
-      throw InputError("policy file " + path.string() + ": cannot write " + tmp.string());
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec)
-    throw InputError("policy file " + path.string() + ": cannot rename " + tmp.string() +
-                         " into place: " + ec.message());
+  write_bytes_atomically(path.string(), std::string_view(reinterpret_cast<const char*>(w.bytes.data()), w.bytes.size()));
 }
 
 PolicyFileContents load_policy(const std::filesystem::path& path) {
