@@ -277,7 +277,7 @@ std::vector<Case> cases() {
       policy("trailing_bytes", [](std::string b) { return with_checksum(b.insert(b.size() - 8, "xxxx")); }, {"policy file", "trailing_bytes.bin", "4 unexpected bytes after the last field"}),
       policy("network_sizes", [](std::string b) { return b; }, {"policy file", "network_sizes.bin", "actor hidden sizes [4] differ from", "ppo.actor_hidden = [8]"},
              replaced(tiny, "actor_hidden = [4]", "actor_hidden = [8]")),
-      policy("observation", [](std::string b) { return b; }, {"policy file", "observation.bin", "obs_dim 7 differs from", "task.observation = \"paper\" needs 6"},
+      policy("observation", [](std::string b) { return b; }, {"policy file", "observation.bin", "obs_dim 7 differs from", "task.observation = \"paper\" with task.history = 0 needs 6"},
              replaced(tiny, "\"proprioceptive\"", "\"paper\"")),
       // ---- checkpoints (run --resume over a copy of the earlier run)
       checkpoint("truncated", ckpt_edit(cut(0.6)), {"checkpoint", "checkpoint.bin", "checksum mismatch (file damaged or truncated)"}),

@@ -15,6 +15,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "file_text.hpp"
 #include "run_binary.hpp"
 #include "tiny_run.hpp"
 
@@ -35,20 +36,8 @@ fs::path scratch(const std::string& name) {
   return codesign::test::scratch_dir("codesign_runcmd_", name);
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::string without_wall(const std::string& toml) {
-  std::istringstream in(toml);
-  std::string line, out;
-  while (std::getline(in, line))
-    if (line.rfind("wall_s", 0) != 0) out += line + "\n";
-  return out;
-}
+using codesign::test::slurp;
+using codesign::test::without_wall;
 
 // Starts the binary with `args` (stdout/stderr to /dev/null), waits `ms` milliseconds, sends
 // SIGKILL; returns true if the process had already finished by itself.

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "child_process.hpp"
+#include "file_text.hpp"
 #include "run_binary.hpp"
 #include "tiny_run.hpp"
 
@@ -30,20 +31,8 @@ const std::string kTinyRun = [] {
   return r.toml();
 }();
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::string without_wall(const std::string& toml) {
-  std::istringstream in(toml);
-  std::string line, out;
-  while (std::getline(in, line))
-    if (line.rfind("wall_s", 0) != 0) out += line + "\n";
-  return out;
-}
+using codesign::test::slurp;
+using codesign::test::without_wall;
 
 // The timestep a checkpoint file holds (i64 at byte 28, checkpoint.hpp), or -1 without one.
 std::int64_t checkpoint_t(const fs::path& run) {
