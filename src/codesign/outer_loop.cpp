@@ -5,6 +5,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "base/seconds_since.hpp"
 #include "fem/design.hpp"
 #include "rl/rollout.hpp"
 
@@ -12,9 +13,6 @@ namespace codesign::coopt {
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 const LoopConfig& checked(const LoopConfig& c, const EnvPool* envs) {
   rl::validate(c.ppo);

@@ -520,11 +520,11 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     const Eigen::Vector2d pr = dist.mean_pressures_kPa(jr);
     runner = {jr, pr[0], pr[1], 0.0, 0.0};
   }
-  const rl::ActorCritic& model = loop.model();
-  const std::optional<rl::ObsNormalization> obs_norm = loop.obs_normalization();  // frozen
-  const Controller policy = [&model, &obs_norm](const Eigen::VectorXd& obs) {
-    const Eigen::VectorXf o = (obs_norm ? obs_norm->apply(obs) : obs).cast<float>();
-    return static_cast<double>(model.deterministic_action(o)(0));
+  // The final policy as policy.bin will hold it: the model and its frozen observation
+  // normalisation, acting as every later reader of the file acts (rl::Policy).
+  const rl::Policy final_policy(rl::PolicyFileContents{loop.model(), loop.obs_normalization()});
+  const Controller policy = [&final_policy](const Eigen::VectorXd& obs) {
+    return final_policy.act_deterministic(obs)[0];
   };
   EvaluationOptions eo;
   eo.episodes = c.eval_episodes;
@@ -546,7 +546,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     }
   }
   if (const int sig = stop_signal(); sig != 0) return stopped(sig, in_evaluation);
-  rl::save_policy(dir / "policy.bin", model, obs_norm);
+  rl::save_policy(dir / "policy.bin", final_policy.model(), final_policy.obs_norm());
   result.wall_s = elapsed();
   const double wall_total = wall_before + result.wall_s;
   io::write_file_atomically((dir / "result.toml").string(), [&](std::ostream& out) {

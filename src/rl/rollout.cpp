@@ -3,15 +3,9 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "base/seconds_since.hpp"
+
 namespace codesign::rl {
-
-namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
 
 RolloutPolicy::ActResult MlpPolicy::act(const Eigen::MatrixXf& obs, const Eigen::RowVectorXf& /*episode_starts*/,
                                         Rng& rng) {

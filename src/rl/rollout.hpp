@@ -20,7 +20,6 @@
 // Then GAE with V(obs after the last step) and the last step's done flags. On return `obs` and
 // `episode_starts` hold the state to continue from (the trainer keeps them across rollouts, the
 // co-design starts each rollout afresh).
-#include <chrono>
 #include <cstddef>
 #include <functional>
 

@@ -6,13 +6,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "base/seconds_since.hpp"
+#include "rl/policy_file.hpp"
+
 namespace codesign::rl {
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 AdamConfig adam_config(const PpoConfig& ppo) {
   AdamConfig a;
@@ -172,12 +172,10 @@ EvalResult evaluate(const DeterministicPolicy& policy, const EnvFactory& factory
 
 EvalResult evaluate(const ActorCritic& model, const EnvFactory& factory, int episodes,
                     std::uint64_t seed, int max_steps, const std::optional<ObsNormalization>& obs_norm) {
-  return evaluate(
-      [&model, &obs_norm](const Eigen::VectorXd& obs) -> Eigen::VectorXd {
-        const Eigen::VectorXf o = (obs_norm ? obs_norm->apply(obs) : obs).cast<float>();
-        return model.deterministic_action(o).cast<double>();
-      },
-      factory, episodes, seed, max_steps);
+  // As a policy file's reader acts: the normalised observation, the Gaussian mean.
+  const Policy policy(PolicyFileContents{model, obs_norm});
+  return evaluate([&policy](const Eigen::VectorXd& obs) { return policy.act_deterministic(obs); }, factory,
+                  episodes, seed, max_steps);
 }
 
 }  // namespace codesign::rl
