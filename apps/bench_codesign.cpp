@@ -33,7 +33,7 @@ int run_bench_codesign(const BenchCodesignOptions& o) {
   coopt::LoopConfig lc{setup.task, setup.codesign, setup.ppo};
   auto sims = std::make_shared<coopt::SimulatorPool>(setup.spec, setup.scene, setup.solver);
   auto envs = std::make_unique<coopt::ThreadEnvPool>(sims, lc.task, static_cast<std::size_t>(lc.codesign.designs_per_update),
-                                                     static_cast<std::size_t>(o.threads));
+                                                     static_cast<std::size_t>(o.threads), lc.ppo.privileged_critic);
   const std::size_t threads = envs->threads();
   coopt::EnvPool* pool = envs.get();
   coopt::OuterLoop loop(lc, std::move(envs));

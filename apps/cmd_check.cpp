@@ -83,13 +83,22 @@ int check_policy(const CheckOptions& o) {
     if (actor != s.ppo.actor_hidden)
       throw InputError(pre + "actor hidden sizes " + sizes_text(actor) + " differ from " + o.config +
                        ": ppo.actor_hidden = " + sizes_text(s.ppo.actor_hidden));
+    const int privileged = s.ppo.privileged_critic ? coopt::kPrivilegedDim : 0;
+    if (p.model.privileged_dim() != privileged)
+      throw InputError(pre + "the critic reads " + std::to_string(p.model.privileged_dim()) +
+                       " privileged features; " + o.config + ": ppo.privileged_critic = " +
+                       (s.ppo.privileged_critic ? "true" : "false") + " needs " + std::to_string(privileged));
     if (critic != s.ppo.critic_hidden)
       throw InputError(pre + "critic hidden sizes " + sizes_text(critic) + " differ from " + o.config +
                        ": ppo.critic_hidden = " + sizes_text(s.ppo.critic_hidden));
   }
-  std::printf("%s: policy: obs_dim %d, act_dim %d, actor %s, critic %s, observation normalisation %s%s\n",
+  std::printf("%s: policy: obs_dim %d, act_dim %d, actor %s, critic %s%s, observation normalisation %s%s\n",
               o.file.c_str(), p.model.obs_dim(), p.model.act_dim(), sizes_text(actor).c_str(),
-              sizes_text(critic).c_str(), p.obs_norm ? "yes" : "no", o.config.empty() ? "" : "; fits the config");
+              sizes_text(critic).c_str(),
+              p.model.privileged_dim() > 0
+                  ? (" (+" + std::to_string(p.model.privileged_dim()) + " privileged inputs)").c_str()
+                  : "",
+              p.obs_norm ? "yes" : "no", o.config.empty() ? "" : "; fits the config");
   return 0;
 }
 
@@ -100,7 +109,8 @@ int check_checkpoint(const CheckOptions& o) {
   const coopt::LoopConfig lc{s.task, s.codesign, s.ppo};
   const std::uint64_t fp = coopt::fingerprint(coopt::resolved_run_config(s.spec, s.scene, s.solver, lc));
   const coopt::Checkpoint c = coopt::load_checkpoint(o.file, fp);
-  const rl::ActorCritic model(coopt::observation_dim(s.task), 1, s.ppo.actor_hidden, s.ppo.critic_hidden);
+  const rl::ActorCritic model(coopt::observation_dim(s.task), 1, s.ppo.actor_hidden, s.ppo.critic_hidden, 0.0f,
+                              s.ppo.privileged_critic ? coopt::kPrivilegedDim : 0);
   if (c.loop.actor.size() != model.actor().num_params() || c.loop.critic.size() != model.critic().num_params() ||
       c.loop.log_std.size() != 1)
     throw InputError("checkpoint " + o.file + ": network sizes (" + std::to_string(c.loop.actor.size()) + " actor, " +

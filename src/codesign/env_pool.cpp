@@ -7,10 +7,10 @@
 namespace codesign::coopt {
 
 ThreadEnvPool::ThreadEnvPool(std::shared_ptr<SimulatorPool> sims, const TaskConfig& task, std::size_t n_envs,
-                             std::size_t n_threads)
+                             std::size_t n_threads, bool privileged)
     : pool_(n_threads) {
   if (n_envs < 1) throw std::invalid_argument("ThreadEnvPool: need at least one environment");
-  for (std::size_t i = 0; i < n_envs; ++i) envs_.push_back(std::make_unique<WhiskerEnv>(sims, task));
+  for (std::size_t i = 0; i < n_envs; ++i) envs_.push_back(std::make_unique<WhiskerEnv>(sims, task, privileged));
   const auto n = static_cast<Eigen::Index>(n_envs);
   result_.obs.resize(envs_.front()->spec().observation.dim(), n);
   result_.rewards.resize(n);

@@ -50,9 +50,10 @@ class EnvPool {
 
 class ThreadEnvPool final : public EnvPool {
  public:
-  // n_threads counts the caller (0: all cores).
+  // n_threads counts the caller (0: all cores). privileged: the environments append the
+  // privileged features (whisker_env.hpp) for a privileged critic.
   ThreadEnvPool(std::shared_ptr<SimulatorPool> sims, const TaskConfig& task, std::size_t n_envs,
-                std::size_t n_threads);
+                std::size_t n_threads, bool privileged = false);
   std::size_t size() const override { return envs_.size(); }
   const rl::EnvSpec& spec() const override { return envs_.front()->spec(); }
   Eigen::MatrixXd start(const std::vector<EpisodeSetup>& setups) override;

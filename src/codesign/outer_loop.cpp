@@ -23,6 +23,11 @@ const LoopConfig& checked(const LoopConfig& c, const EnvPool* envs) {
                                 ") must equal the decisions per episode (" + std::to_string(decisions) + ")");
   if (static_cast<int>(envs->size()) != c.codesign.designs_per_update)
     throw std::invalid_argument("OuterLoop: one environment per sampled design expected");
+  const int extra = static_cast<int>(envs->spec().observation.dim()) - observation_dim(c.task);
+  if (extra != (c.ppo.privileged_critic ? kPrivilegedDim : 0))
+    throw std::invalid_argument("OuterLoop: the environments' observations have " + std::to_string(extra) +
+                                " privileged features; ppo.privileged_critic asks for " +
+                                std::to_string(c.ppo.privileged_critic ? kPrivilegedDim : 0));
   return c;
 }
 
@@ -60,8 +65,9 @@ std::vector<int> design_chambers() {
 OuterLoop::OuterLoop(const LoopConfig& config, std::unique_ptr<EnvPool> envs)
     : config_(checked(config, envs.get())),
       envs_(std::move(envs)),
-      model_(static_cast<int>(envs_->spec().observation.dim()), static_cast<int>(envs_->spec().action.dim()),
-             config_.ppo.actor_hidden, config_.ppo.critic_hidden, static_cast<float>(config_.ppo.log_std_init)),
+      model_(observation_dim(config_.task), static_cast<int>(envs_->spec().action.dim()), config_.ppo.actor_hidden,
+             config_.ppo.critic_hidden, static_cast<float>(config_.ppo.log_std_init),
+             config_.ppo.privileged_critic ? kPrivilegedDim : 0),
       optimizer_(rl::make_adam(config_.ppo)),
       buffer_(config_.ppo.n_steps, static_cast<int>(envs_->size()), static_cast<int>(envs_->spec().observation.dim()),
               static_cast<int>(envs_->spec().action.dim())),
@@ -79,7 +85,12 @@ OuterLoop::OuterLoop(const LoopConfig& config, std::unique_ptr<EnvPool> envs)
 
 std::optional<rl::ObsNormalization> OuterLoop::obs_normalization() const {
   if (!obs_stats_) return std::nullopt;
-  return obs_stats_->frozen();
+  rl::ObsNormalization n = obs_stats_->frozen();
+  // The policy acts on the actor's rows; privileged features come after them.
+  const Eigen::Index actor = model_.obs_dim();
+  n.mean = n.mean.head(actor).eval();
+  n.var = n.var.head(actor).eval();
+  return n;
 }
 
 std::vector<DesignSample> OuterLoop::sample_designs(std::vector<EpisodeSetup>& setups) {

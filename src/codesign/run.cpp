@@ -387,7 +387,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   auto sims = std::make_shared<SimulatorPool>(settings.spec, settings.scene, settings.solver);
   const LoopConfig& lc = settings.loop;
   auto envs = std::make_unique<ThreadEnvPool>(sims, lc.task, static_cast<std::size_t>(lc.codesign.designs_per_update),
-                                              options.threads);
+                                              options.threads, lc.ppo.privileged_critic);
   OuterLoop loop(lc, std::move(envs));
   double wall_before = 0.0;
   if (ckpt) {

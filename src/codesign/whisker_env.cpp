@@ -20,8 +20,8 @@ double scaled(double x, double lo, double hi) {
   return std::clamp(s, -kObservationClip, kObservationClip);
 }
 
-rl::EnvSpec make_spec(const TaskConfig& task) {
-  const auto n = static_cast<Eigen::Index>(observation_dim(task));
+rl::EnvSpec make_spec(const TaskConfig& task, bool privileged) {
+  const auto n = static_cast<Eigen::Index>(observation_dim(task) + (privileged ? kPrivilegedDim : 0));
   rl::EnvSpec s;
   s.observation.low = Eigen::VectorXd::Constant(n, -kObservationClip);
   s.observation.high = Eigen::VectorXd::Constant(n, kObservationClip);
@@ -83,8 +83,8 @@ int observation_dim(const TaskConfig& task) {
   return set_dim(task.observation) + task.history * (dynamic_observation_dim(task.observation) + 1);
 }
 
-WhiskerEnv::WhiskerEnv(std::shared_ptr<SimulatorPool> pool, const TaskConfig& task)
-    : pool_(std::move(pool)), task_(task), spec_(make_spec(task)) {
+WhiskerEnv::WhiskerEnv(std::shared_ptr<SimulatorPool> pool, const TaskConfig& task, bool privileged)
+    : pool_(std::move(pool)), task_(task), privileged_(privileged), spec_(make_spec(task, privileged)) {
   if (!pool_) throw std::invalid_argument("WhiskerEnv: no simulator pool");
   if (task_.episode_steps % task_.action_hold_steps != 0)
     throw std::invalid_argument("WhiskerEnv: action_hold_steps must divide episode_steps");
@@ -194,12 +194,26 @@ fem::StepResult WhiskerEnv::update_strain_zero() {
 }
 
 Eigen::VectorXd WhiskerEnv::observe() const {
-  if (task_.history == 0) return current_observation();
-  Eigen::VectorXd o(observation_dim(task_));
+  if (task_.history == 0 && !privileged_) return current_observation();
+  Eigen::VectorXd o(spec_.observation.dim());
   const Eigen::VectorXd now = current_observation();
-  o << now, history_obs_, history_actions_;
+  if (privileged_) o << now, history_obs_, history_actions_, privileged_features();
+  else o << now, history_obs_, history_actions_;
   if (!o.allFinite()) o.setZero();
   return o;
+}
+
+Eigen::VectorXd WhiskerEnv::privileged_features() const {
+  const fem::Sensors s = sim_->sensors();
+  const fem::SceneConfig& scene = sim_->scene();
+  const double band = task_.tolerance_fraction * task_.target_force_mN;
+  const double lim = scene.theta_limit_deg * std::numbers::pi / 180.0;
+  const double phase = 2.0 * std::numbers::pi * scene.plate_frequency_Hz * s.time_s + setup_.plate_phase_rad;
+  Eigen::VectorXd f(kPrivilegedDim);
+  f << std::clamp((s.contact_force_mN - task_.target_force_mN) / band, -kObservationClip, kObservationClip),
+      std::clamp(s.theta_rad / lim, -kObservationClip, kObservationClip), std::sin(phase), std::cos(phase),
+      2.0 * decision_ / decisions_per_episode() - 1.0;
+  return f;
 }
 
 Eigen::VectorXd WhiskerEnv::current_observation() const {

@@ -27,6 +27,11 @@
 //   no_feedback    a_{t−1} … a_{t−k}                                              (+k)
 // Slots before the episode's first decision hold the episode's first observation (ε, θ after
 // settling) and action 0, so that a constant input reads as "no change yet".
+// Privileged features (constructed with privileged = true, for a privileged critic during
+// training; rl/actor_critic.hpp): after all of the above, kPrivilegedDim components of the true
+// state no sensor of the robot gives:
+//   (F − F_t)/(tol·F_t) (the signed δ, clipped to ±kObservationClip), θ/θ_limit (the scene's),
+//   sin(ω t + φ) and cos(ω t + φ) of the plate, 2·decision/decisions − 1 (time in the episode).
 // With TaskConfig::strain_offset = Inflated the ε component is ε − ε₀ (task_config.hpp): ε₀ comes
 // from a settle of the same design and pressures with the plate out of reach, once per
 // (design, pressures) on this environment.
@@ -49,6 +54,7 @@
 namespace codesign::coopt {
 
 inline constexpr double kObservationClip = 3.0;
+inline constexpr int kPrivilegedDim = 5;
 
 struct EpisodeSetup {
   bool operator==(const EpisodeSetup&) const = default;
@@ -92,7 +98,8 @@ int dynamic_observation_dim(ObservationSet set);
 
 class WhiskerEnv final : public rl::Env {
  public:
-  WhiskerEnv(std::shared_ptr<SimulatorPool> pool, const TaskConfig& task);
+  // privileged: append the privileged features (above) to every observation.
+  WhiskerEnv(std::shared_ptr<SimulatorPool> pool, const TaskConfig& task, bool privileged = false);
   ~WhiskerEnv() override;
 
   // Takes effect at the next reset().
@@ -124,6 +131,8 @@ class WhiskerEnv final : public rl::Env {
  private:
   // The observation set's components for the present state (without the history).
   Eigen::VectorXd current_observation() const;
+  // The privileged features of the present state (kPrivilegedDim).
+  Eigen::VectorXd privileged_features() const;
   Eigen::VectorXd observe() const;
   // Fills the history with the present observation and action 0 (episode start).
   void clear_history();
@@ -136,6 +145,7 @@ class WhiskerEnv final : public rl::Env {
 
   std::shared_ptr<SimulatorPool> pool_;
   TaskConfig task_;
+  bool privileged_ = false;
   rl::EnvSpec spec_;
   EpisodeSetup setup_;
   int sim_design_ = -1;

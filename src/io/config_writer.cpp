@@ -169,6 +169,7 @@ void write_ppo_table(std::ostream& out, const rl::PpoConfig& c) {
   // Only when on: the resolved config (and the checkpoint fingerprint) of a run without it is
   // what it was before the key existed, so such runs still resume.
   if (c.normalize_observations) t.boolean("normalize_observations", true);
+  if (c.privileged_critic) t.boolean("privileged_critic", true);
   t.integers("actor_hidden", c.actor_hidden);
   t.integers("critic_hidden", c.critic_hidden);
   t.number("log_std_init", c.log_std_init);

@@ -83,6 +83,7 @@ rl::PpoConfig read_ppo_config(TableReader& t, const rl::PpoConfig& d) {
   else t.number("target_kl", 0.0, ppo_range::target_kl);
   c.normalize_advantage = t.boolean("normalize_advantage", d.normalize_advantage);
   c.normalize_observations = t.boolean("normalize_observations", d.normalize_observations);
+  c.privileged_critic = t.boolean("privileged_critic", d.privileged_critic);
   c.actor_hidden = hidden(t, "actor_hidden", d.actor_hidden);
   c.critic_hidden =
       hidden(t, "critic_hidden", d.critic_hidden);
@@ -115,6 +116,9 @@ GymTrainConfig read_gym_config(TableReader& root) {
   TableReader ppo = root.table("ppo");
   g.trainer.ppo = read_ppo_config(ppo);
   ppo.finish();
+  if (g.trainer.ppo.privileged_critic)
+    ppo.fail("privileged_critic", "value true is not allowed here: the gym tasks supply no privileged "
+                                  "features (only the whisker co-design does); allowed: false");
   const std::int64_t rollout = static_cast<std::int64_t>(g.trainer.ppo.n_steps) * g.trainer.n_envs;
   if (g.trainer.ppo.batch_size > rollout)
     ppo.fail("batch_size", "value " + std::to_string(g.trainer.ppo.batch_size) +

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "rl/gaussian.hpp"
 
@@ -18,9 +19,9 @@ std::vector<int> layer_sizes(int in, const std::vector<int>& hidden, int out) {
 
 template <class S>
 ActorCriticT<S>::ActorCriticT(int obs_dim, int act_dim, const std::vector<int>& actor_hidden,
-                              const std::vector<int>& critic_hidden, S log_std_init)
+                              const std::vector<int>& critic_hidden, S log_std_init, int privileged_dim)
     : actor_(layer_sizes(obs_dim, actor_hidden, act_dim)),
-      critic_(layer_sizes(obs_dim, critic_hidden, 1)),
+      critic_(layer_sizes(obs_dim + privileged_dim, critic_hidden, 1)),
       log_std_(Vec::Constant(act_dim, log_std_init)),
       log_std_init_(log_std_init) {}
 
@@ -42,7 +43,11 @@ template <class S>
 typename ActorCriticT<S>::ActResult ActorCriticT<S>::act(const Eigen::Ref<const Mat>& obs,
                                                          Rng& rng, InferenceCache& cache) const {
   ActResult r;
-  const Mat& mean = actor_.forward(obs, cache.actor);
+  if (obs.rows() != critic_input_dim())
+    throw std::invalid_argument("ActorCritic::act: observation has " + std::to_string(obs.rows()) +
+                                " rows, expected " + std::to_string(critic_input_dim()));
+  const Mat& mean = privileged_dim() == 0 ? actor_.forward(obs, cache.actor)
+                                          : actor_.forward(actor_rows(obs), cache.actor);
   r.actions = gaussian_sample<S>(mean, log_std_, rng);
   r.log_probs = gaussian_log_prob<S>(mean, log_std_, r.actions);
   r.values = critic_.forward(obs, cache.critic).row(0);

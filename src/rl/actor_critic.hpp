@@ -6,6 +6,12 @@
 //   log_std: act_dim free parameters, initialised to log_std_init (SB3 default 0).
 // Hidden layers use orthogonal init with gain sqrt(2); all biases start at zero (SB3 ortho_init).
 //
+// Privileged critic (asymmetric actor-critic, ours: PpoConfig::privileged_critic): with
+// privileged_dim = m > 0 the critic reads obs_dim + m inputs, the actor's obs_dim followed by m
+// features only the training environment knows. Batches given to act(), value() and the PPO
+// loss then have obs_dim + m rows (critic_input_dim()) and the actor reads the first obs_dim;
+// the deterministic policy reads obs_dim rows, so evaluation never sees the extra features.
+//
 // Batches are column-per-sample: observations (obs_dim x B), actions (act_dim x B).
 // Actions are returned UNCLIPPED (SB3 stores the unclipped sample in the rollout buffer; the
 // collector clips to the action bounds before stepping the environment).
@@ -49,13 +55,18 @@ class ActorCriticT {
   // Networks have the given hidden sizes; parameters are zero and log_std = log_std_init until
   // init_orthogonal() is called.
   ActorCriticT(int obs_dim, int act_dim, const std::vector<int>& actor_hidden,
-               const std::vector<int>& critic_hidden, S log_std_init = S(0));
+               const std::vector<int>& critic_hidden, S log_std_init = S(0), int privileged_dim = 0);
 
   // SB3's orthogonal init (see top of file); also resets log_std to log_std_init. The actor is
   // initialised first, then the critic, from the same rng.
   void init_orthogonal(Rng& rng);
 
   int obs_dim() const { return actor_.input_dim(); }
+  // Rows of a batch for act(), value() and the PPO loss: obs_dim() + privileged_dim().
+  int critic_input_dim() const { return critic_.input_dim(); }
+  int privileged_dim() const { return critic_.input_dim() - actor_.input_dim(); }
+  // The actor's rows of a batch of critic_input_dim() rows (a copy only when they differ).
+  Mat actor_rows(const Eigen::Ref<const Mat>& obs) const { return obs.topRows(obs_dim()); }
   int act_dim() const { return actor_.output_dim(); }
   Eigen::Index num_params() const {
     return actor_.num_params() + critic_.num_params() + log_std_.size();

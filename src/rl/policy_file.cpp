@@ -117,9 +117,11 @@ void save_policy(const std::filesystem::path& path, const ActorCritic& model,
                  const std::optional<ObsNormalization>& obs_norm) {
   Writer w;
   w.put_array(kMagic, sizeof kMagic);
-  w.put<std::uint32_t>(kPolicyFileVersion);
+  const bool privileged = model.privileged_dim() > 0;
+  w.put<std::uint32_t>(privileged ? kPolicyFileVersion : 1u);
   w.put<std::uint32_t>(static_cast<std::uint32_t>(model.obs_dim()));
   w.put<std::uint32_t>(static_cast<std::uint32_t>(model.act_dim()));
+  if (privileged) w.put<std::uint32_t>(static_cast<std::uint32_t>(model.privileged_dim()));
   put_sizes(w, model.actor().sizes());
   put_sizes(w, model.critic().sizes());
   w.put_array(model.actor().params().data(), static_cast<std::size_t>(model.actor().num_params()));
@@ -158,9 +160,9 @@ PolicyFileContents parse_policy(std::span<const unsigned char> bytes, const std:
     throw InputError("policy file " + file + ": bad magic (not a codesign policy file)");
   std::uint32_t version;
   std::memcpy(&version, bytes.data() + sizeof kMagic, sizeof version);
-  if (version != kPolicyFileVersion)
+  if (version < 1 || version > kPolicyFileVersion)
     throw InputError("policy file " + file + ": unsupported version " +
-                         std::to_string(version) + " (this build reads version " +
+                         std::to_string(version) + " (this build reads versions 1 to " +
                          std::to_string(kPolicyFileVersion) + ")");
   const std::size_t body_end = bytes.size() - sizeof(std::uint64_t);
   std::uint64_t stored;
@@ -179,12 +181,19 @@ PolicyFileContents parse_policy(std::span<const unsigned char> bytes, const std:
     throw InputError("policy file " + file + ": obs_dim " + std::to_string(obs_dim) +
                          " / act_dim " + std::to_string(act_dim) + " out of range [1, " +
                          std::to_string(kMaxDim) + "]");
+  std::uint32_t privileged_dim = 0;
+  if (version >= 2) {
+    privileged_dim = r.get<std::uint32_t>("privileged_dim");
+    if (privileged_dim == 0 || privileged_dim > kMaxDim)
+      throw InputError("policy file " + file + ": privileged_dim " + std::to_string(privileged_dim) +
+                       " out of range [1, " + std::to_string(kMaxDim) + "]");
+  }
   const auto actor_hidden = get_hidden(r, file, "actor");
   const auto critic_hidden = get_hidden(r, file, "critic");
   // The weights the sizes declare must be in the file before any is allocated: a few bytes
   // claiming a huge network must not make the reader fill gigabytes (fuzz finding).
   const std::uint64_t weights = mlp_params(obs_dim, actor_hidden, act_dim) +
-                                mlp_params(obs_dim, critic_hidden, 1) + act_dim;
+                                mlp_params(std::uint64_t{obs_dim} + privileged_dim, critic_hidden, 1) + act_dim;
   if (weights > (r.end() - r.pos()) / sizeof(float))
     throw InputError("policy file " + file + ": the declared sizes (obs_dim " + std::to_string(obs_dim) +
                      ", act_dim " + std::to_string(act_dim) + ", " + std::to_string(actor_hidden.size()) +
@@ -192,7 +201,7 @@ PolicyFileContents parse_policy(std::span<const unsigned char> bytes, const std:
                      std::to_string(weights) + " weights; the file holds at most " +
                      std::to_string((r.end() - r.pos()) / sizeof(float)));
   PolicyFileContents c{ActorCritic(static_cast<int>(obs_dim), static_cast<int>(act_dim),
-                                   actor_hidden, critic_hidden),
+                                   actor_hidden, critic_hidden, 0.0f, static_cast<int>(privileged_dim)),
                        std::nullopt};
   r.get_array(c.model.actor().params().data(),
               static_cast<std::size_t>(c.model.actor().num_params()), "actor weights");

@@ -2,10 +2,11 @@
 // Policy files: the trained ActorCritic (sizes, weights, log_std) and the observation
 // normalisation, if the trainer used one, in a versioned, checksummed binary file.
 //
-// Format (all integers and floats little-endian; version 1):
+// Format (all integers and floats little-endian; version 1, or 2 for a privileged critic):
 //   magic     8 bytes  "CDSPOLCY"
-//   version   u32      1
+//   version   u32      1 or 2
 //   obs_dim   u32, act_dim u32
+//   (version 2 only) privileged_dim u32 ≥ 1: the critic reads obs_dim + privileged_dim inputs
 //   n_actor   u32, actor hidden sizes  n_actor x u32
 //   n_critic  u32, critic hidden sizes n_critic x u32
 //   actor params   f32 x (count implied by sizes)
@@ -28,7 +29,9 @@
 
 namespace codesign::rl {
 
-inline constexpr std::uint32_t kPolicyFileVersion = 1;
+// The newest version this build writes and reads (version 1, still written for a model without a
+// privileged critic, is read too).
+inline constexpr std::uint32_t kPolicyFileVersion = 2;
 
 // SB3 VecNormalize-style observation normalisation: clip((obs - mean) / sqrt(var + eps), +-clip).
 struct ObsNormalization {

@@ -120,8 +120,15 @@ PpoLossT<S> ppo_minibatch_loss(const ActorCriticT<S>& model, const PpoMinibatchT
     adv = (adv.array() - mean) / (stddev + S(1e-8));
   }
 
-  const auto& mean_action = model.actor().forward(
-      batch.obs, ws.actor_cache, ws.actor_pending ? &ws.actor_pending : nullptr);
+  if (batch.obs.rows() != model.critic_input_dim())
+    throw std::invalid_argument("ppo_minibatch_loss: observations have " + std::to_string(batch.obs.rows()) +
+                                " rows, the model takes " + std::to_string(model.critic_input_dim()));
+  // The actor reads the first obs_dim rows; the critic all (a privileged critic reads more).
+  const auto& mean_action =
+      model.privileged_dim() == 0
+          ? model.actor().forward(batch.obs, ws.actor_cache, ws.actor_pending ? &ws.actor_pending : nullptr)
+          : model.actor().forward(model.actor_rows(batch.obs), ws.actor_cache,
+                                  ws.actor_pending ? &ws.actor_pending : nullptr);
   const auto& values = model.critic().forward(
       batch.obs, ws.critic_cache, ws.critic_pending ? &ws.critic_pending : nullptr);
   if (ws.log_std_pending) ws.log_std_pending();

@@ -58,6 +58,11 @@ struct PpoConfig {
   // Observation normalisation with running statistics (SB3's VecNormalize(norm_obs=True),
   // obs_normalizer.hpp); off by default (the paper's runs do not use it).
   bool normalize_observations = false;
+  // Privileged critic (asymmetric actor-critic, ours; off by default): the critic also reads
+  // features of the true state that the task's environment supplies during training (the
+  // whisker: force error, base angle, plate phase, time in the episode; whisker_env.hpp), the
+  // actor never does. Only tasks that supply such features accept it.
+  bool privileged_critic = false;
   std::vector<int> actor_hidden = {64, 64};
   std::vector<int> critic_hidden = {64, 64};
   double log_std_init = 0.0;
@@ -158,6 +163,11 @@ struct PpoLossCoefficients {
   // Observation normalisation with running statistics (SB3's VecNormalize(norm_obs=True),
   // obs_normalizer.hpp); off by default (the paper's runs do not use it).
   bool normalize_observations = false;
+  // Privileged critic (asymmetric actor-critic, ours; off by default): the critic also reads
+  // features of the true state that the task's environment supplies during training (the
+  // whisker: force error, base angle, plate phase, time in the episode; whisker_env.hpp), the
+  // actor never does. Only tasks that supply such features accept it.
+  bool privileged_critic = false;
 };
 
 template <class S>

@@ -83,6 +83,31 @@ TEST(OuterLoop, SingleDesignBaselineSamplesOnlyItsDesign) {
   }
 }
 
+// ppo.privileged_critic: the critic reads the environments' kPrivilegedDim extra rows, the
+// actor and the policy the loop hands out (its normalisation too) only the task's observation.
+TEST(OuterLoop, PrivilegedCriticReadsTheExtraRowsAndThePolicyDoesNot) {
+  RunSettings s = test::tiny_run();
+  s.loop.ppo.privileged_critic = true;
+  s.loop.ppo.normalize_observations = true;
+  auto sims = std::make_shared<SimulatorPool>(s.spec, s.scene, s.solver);
+  OuterLoop loop(s.loop, std::make_unique<ThreadEnvPool>(sims, s.loop.task, 4, 1, true));
+  const int obs = observation_dim(s.loop.task);
+  EXPECT_EQ(loop.model().obs_dim(), obs);
+  EXPECT_EQ(loop.model().critic_input_dim(), obs + kPrivilegedDim);
+  const Eigen::VectorXf before = loop.model().critic().params();
+  for (int k = 0; k < 2; ++k) loop.iterate();
+  EXPECT_FALSE(loop.model().critic().params() == before);  // it trained
+  ASSERT_TRUE(loop.obs_normalization().has_value());
+  EXPECT_EQ(loop.obs_normalization()->mean.size(), obs);
+  EXPECT_EQ(loop.obs_normalization()->var.size(), obs);
+  // The config and the environments must agree.
+  EXPECT_THROW(OuterLoop(s.loop, std::make_unique<ThreadEnvPool>(sims, s.loop.task, 4, 1, false)),
+               std::invalid_argument);
+  s.loop.ppo.privileged_critic = false;
+  EXPECT_THROW(OuterLoop(s.loop, std::make_unique<ThreadEnvPool>(sims, s.loop.task, 4, 1, true)),
+               std::invalid_argument);
+}
+
 TEST(OuterLoop, RejectsRolloutLengthOtherThanAnEpisode) {
   RunSettings s = test::tiny_run();
   s.loop.ppo.n_steps = 6;

@@ -130,6 +130,44 @@ TEST(WhiskerEnv, HistoryStacksPastObservationsAndActionsNewestFirst) {
   for (int i = 0; i < k; ++i) EXPECT_EQ(o[7 + 2 * k + i], 0.0);
 }
 
+// privileged = true appends (F − F_t)/(tol·F_t), θ/θ_limit, sin and cos of the plate's phase
+// ω t + φ, and 2·decision/decisions − 1, after an observation that is otherwise unchanged.
+TEST(WhiskerEnv, PrivilegedFeaturesFollowTheTrueStateAndLeaveTheObservationAlone) {
+  TaskConfig t;  // F_t = 20 mN, tol 0.2: band 4 mN; 250 steps of 0.01 s held 5: 50 decisions
+  t.observation = ObservationSet::Proprioceptive;
+  WhiskerEnv with(pool(), t, true), without(pool(), t);
+  ASSERT_EQ(with.spec().observation.dim(), 7u + coopt::kPrivilegedDim);
+  const double phi = 0.7;
+  const coopt::EpisodeSetup setup{41, 10.0, 0.0, phi, 0.0};
+  with.set_episode(setup);
+  without.set_episode(setup);
+  const fem::SceneConfig scene;  // the pool's: f = 0.8 Hz, θ limit 30°
+  const double lim = scene.theta_limit_deg * std::numbers::pi / 180.0;
+  auto expect_features = [&](const Eigen::VectorXd& o, const Eigen::VectorXd& plain, double t_s, int decision) {
+    ASSERT_EQ(o.size(), 7 + coopt::kPrivilegedDim);
+    EXPECT_EQ(o.head<7>(), plain) << "decision " << decision;
+    const fem::Sensors s = with.simulator().sensors();
+    EXPECT_NEAR(s.time_s, t_s, 1e-12);
+    EXPECT_DOUBLE_EQ(o[7], std::clamp((s.contact_force_mN - 20.0) / 4.0, -coopt::kObservationClip,
+                                      coopt::kObservationClip));
+    EXPECT_DOUBLE_EQ(o[8], s.theta_rad / lim);
+    const double phase = 2.0 * std::numbers::pi * scene.plate_frequency_Hz * t_s + phi;
+    EXPECT_NEAR(o[9], std::sin(phase), 1e-12);
+    EXPECT_NEAR(o[10], std::cos(phase), 1e-12);
+    EXPECT_DOUBLE_EQ(o[11], 2.0 * decision / 50.0 - 1.0);
+  };
+  expect_features(with.reset(std::nullopt), without.reset(std::nullopt), 0.0, 0);
+  Eigen::VectorXd a(1);
+  for (int d = 1; d <= 3; ++d) {
+    a[0] = -0.02 * d;  // small turns away: the force stays near the band (no clipping)
+    const rl::StepResult r = with.step(a), p = without.step(a);
+    EXPECT_LT(std::abs(r.obs[7]), coopt::kObservationClip);
+    EXPECT_EQ(r.reward, p.reward);
+    expect_features(r.obs, p.obs, 0.05 * d, d);
+  }
+  EXPECT_NEAR(with.simulator().sensors().theta_rad, -0.12 * t.theta_max_rad, 1e-9);
+}
+
 TEST(WhiskerEnv, HistoryOfTheNoFeedbackSetIsActionsOnly) {
   TaskConfig t;
   t.observation = ObservationSet::NoFeedback;

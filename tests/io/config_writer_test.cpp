@@ -107,6 +107,8 @@ void expect_same(const rl::PpoConfig& a, const rl::PpoConfig& b) {
   EXPECT_EQ(a.max_grad_norm, b.max_grad_norm);
   EXPECT_EQ(a.target_kl, b.target_kl);
   EXPECT_EQ(a.normalize_advantage, b.normalize_advantage);
+  EXPECT_EQ(a.normalize_observations, b.normalize_observations);
+  EXPECT_EQ(a.privileged_critic, b.privileged_critic);
   EXPECT_EQ(a.actor_hidden, b.actor_hidden);
   EXPECT_EQ(a.critic_hidden, b.critic_hidden);
   EXPECT_EQ(a.log_std_init, b.log_std_init);
@@ -180,6 +182,8 @@ vf_coef = 0.7
 max_grad_norm = 0.8
 target_kl = 0.015
 normalize_advantage = false
+normalize_observations = true
+privileged_critic = true
 actor_hidden = [32, 48, 16]
 critic_hidden = [96]
 log_std_init = -0.5

@@ -131,6 +131,13 @@ TEST(GymConfig, CrossFieldRules) {
   EXPECT_NE(m.find("ppo.learning_rate_final: applies only with lr_decay_start and lr_decay_end"), std::string::npos) << m;
   m = error_of("[ppo]\nlr_decay_start = 1\nlr_decay_end = 2\nlearning_rate_final = 2.0\n");
   EXPECT_NE(m.find("ppo.learning_rate_final: value 2 is out of range; allowed [0, 1]"), std::string::npos) << m;
+
+  // The gym tasks have no privileged features for a privileged critic.
+  m = error_of("[ppo]\nprivileged_critic = true\n");
+  EXPECT_NE(m.find("test.toml"), std::string::npos) << m;
+  EXPECT_NE(m.find("ppo.privileged_critic"), std::string::npos) << m;
+  EXPECT_NE(m.find("allowed: false"), std::string::npos) << m;
+  EXPECT_NO_THROW(parse("[ppo]\nprivileged_critic = false\n"));
 }
 
 // ppo.matmul_precision: "auto" (also when absent) resolves to bf16 where the build/CPU has

@@ -24,7 +24,7 @@ void randomise(ModelD& m, Rng& rng, double scale) {
 
 BatchD random_batch(const ModelD& m, int n, double log_ratio_spread, Rng& rng) {
   BatchD b;
-  b.obs.resize(m.obs_dim(), n);
+  b.obs.resize(m.critic_input_dim(), n);
   for (Eigen::Index i = 0; i < b.obs.size(); ++i) b.obs(i) = rng.normal();
   const auto act = m.act(b.obs, rng);
   b.actions = act.actions;
@@ -55,6 +55,43 @@ TEST(PpoLoss, FullLossGradientMatchesFiniteDifferences) {
   test::expect_gradient_matches(model.actor().params(), loss, grad.actor, "actor");
   test::expect_gradient_matches(model.critic().params(), loss, grad.critic, "critic");
   test::expect_gradient_matches(model.log_std(), loss, grad.log_std, "log_std");
+}
+
+// A privileged critic (asymmetric actor-critic) reads 2 more rows than the actor: the gradient
+// of every block still matches finite differences, and the extra rows reach the critic only.
+TEST(PpoLoss, PrivilegedCriticGradientMatchesFiniteDifferencesAndTheActorIgnoresTheExtraRows) {
+  Rng rng(22);
+  ModelD model(3, 2, {5, 4}, {6}, 0.0, 2);
+  ASSERT_EQ(model.obs_dim(), 3);
+  ASSERT_EQ(model.critic_input_dim(), 5);
+  ASSERT_EQ(model.privileged_dim(), 2);
+  randomise(model, rng, 0.5);
+  BatchD batch = random_batch(model, 9, 0.3, rng);
+  const PpoLossCoefficients coefs{0.2, 0.05, 0.6, true};
+  PpoWorkspaceT<double> ws;
+  auto grad = model.zero_grad();
+  const auto l = ppo_minibatch_loss<double>(model, batch, coefs, &grad, ws);
+  ASSERT_GT(l.clip_fraction, 0.0);
+  ASSERT_LT(l.clip_fraction, 1.0);
+  auto loss = [&] { return ppo_minibatch_loss<double>(model, batch, coefs, nullptr, ws).loss; };
+  test::expect_gradient_matches(model.actor().params(), loss, grad.actor, "actor");
+  test::expect_gradient_matches(model.critic().params(), loss, grad.critic, "critic");
+  test::expect_gradient_matches(model.log_std(), loss, grad.log_std, "log_std");
+
+  // Changing only the privileged rows: the policy terms are unchanged to the last bit (the actor
+  // never reads them), the value loss moves.
+  BatchD moved = batch;
+  moved.obs.bottomRows(2).array() += 1.0;
+  const auto lm = ppo_minibatch_loss<double>(model, moved, coefs, nullptr, ws);
+  EXPECT_EQ(lm.pg_loss, l.pg_loss);
+  EXPECT_EQ(lm.approx_kl, l.approx_kl);
+  EXPECT_NE(lm.value_loss, l.value_loss);
+  const ModelD::Mat actor_obs = batch.obs.topRows(3);
+  EXPECT_TRUE(model.deterministic_actions(actor_obs) == model.deterministic_actions(ModelD::Mat(moved.obs.topRows(3))));
+  // A batch with the actor's rows only is refused (it would silently feed the critic too few).
+  BatchD short_batch = batch;
+  short_batch.obs = actor_obs;
+  EXPECT_THROW(ppo_minibatch_loss<double>(model, short_batch, coefs, nullptr, ws), std::invalid_argument);
 }
 
 // One sample whose ratio is set to r; pg loss only.
