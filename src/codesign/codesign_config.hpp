@@ -31,6 +31,10 @@ struct CodesignConfig {
   bool random_plate_phase = true;
   double plate_phase_rad = 0.0;
   int eval_episodes = 100;              // final evaluation: episodes (plate phases) per design (ours)
+  // The reference the final evaluation prints beside d*'s test return (ours): the best constant
+  // base angle on d* at p*, tuned on this many plate phases (never test phases; design_sweep.hpp
+  // tune_fixed_theta) and tested on the eval_episodes test phases. 0: not computed.
+  int fixed_theta_phases = 10;
   std::int64_t checkpoint_every = 50'000;  // timesteps between checkpoints (ours)
   std::uint64_t seed = 1;
 };

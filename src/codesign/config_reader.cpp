@@ -77,6 +77,7 @@ CodesignConfig read_codesign_config(io::TableReader& root, const TaskConfig& tas
   c.random_plate_phase = t.boolean("random_plate_phase", c.random_plate_phase);
   c.plate_phase_rad = t.number("plate_phase_deg", 0.0, -360.0, 360.0) * std::numbers::pi / 180.0;
   c.eval_episodes = static_cast<int>(t.integer("eval_episodes", c.eval_episodes, 1, 100000));
+  c.fixed_theta_phases = static_cast<int>(t.integer("fixed_theta_phases", c.fixed_theta_phases, 0, 10000));
   c.checkpoint_every = t.integer("checkpoint_every", c.checkpoint_every, 1, 1'000'000'000);
   c.seed = static_cast<std::uint64_t>(t.integer("seed", 1, 0, std::int64_t{1} << 62));
   t.finish();

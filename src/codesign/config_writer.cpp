@@ -57,6 +57,9 @@ void write_codesign_table(std::ostream& out, const CodesignConfig& c) {
   t.boolean("random_plate_phase", c.random_plate_phase);
   t.degrees("plate_phase_deg", c.plate_phase_rad);
   t.integer("eval_episodes", c.eval_episodes);
+  // Written only when not the default, so that the config fingerprints of runs from before the
+  // key existed are unchanged (they resume).
+  if (c.fixed_theta_phases != CodesignConfig{}.fixed_theta_phases) t.integer("fixed_theta_phases", c.fixed_theta_phases);
   t.integer("checkpoint_every", c.checkpoint_every);
   t.integer("seed", static_cast<std::int64_t>(c.seed));
 }

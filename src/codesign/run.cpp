@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <numeric>
 #include <optional>
 #include <sstream>
@@ -18,6 +19,7 @@
 #include "base/errors.hpp"
 #include "codesign/checkpoint.hpp"
 #include "codesign/config_writer.hpp"
+#include "codesign/design_sweep.hpp"
 #include "codesign/evaluation.hpp"
 #include "codesign/failure_count.hpp"
 #include "codesign/stop_signals.hpp"
@@ -546,6 +548,13 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     }
   }
   if (const int sig = stop_signal(); sig != 0) return stopped(sig, in_evaluation);
+  // The reference for d*: its best constant base angle, tuned on phases no test shares.
+  std::optional<FixedThetaTuning> fixed;
+  if (c.fixed_theta_phases > 0) {
+    fixed = tune_fixed_theta(sims, lc.task, best, FixedThetaConfig{}, c.fixed_theta_phases, c.eval_episodes,
+                             options.threads);
+    if (const int sig = stop_signal(); sig != 0) return stopped(sig, in_evaluation);
+  }
   rl::save_policy(dir / "policy.bin", final_policy.model(), final_policy.obs_norm());
   result.wall_s = elapsed();
   const double wall_total = wall_before + result.wall_s;
@@ -554,6 +563,13 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
         << c.eval_episodes << " episodes\n# (plate phases 2*pi*(k + 1/2)/" << c.eval_episodes << ").\n\n";
     toml_design(out, "best", eb, c.eval_episodes);
     if (er) toml_design(out, "runner_up", *er, c.eval_episodes);
+    if (fixed)
+      out << "[best_fixed_theta]   # d* at p* with the base held at the best constant angle (no controller)\n"
+          << "theta0_deg = " << num(fixed->theta0_rad * 180.0 / std::numbers::pi) << "   # tuned on "
+          << c.fixed_theta_phases << " plate phases 2*pi*(i + 0.618...)/" << c.fixed_theta_phases << "\n"
+          << "test_return = " << num(fixed->test.mean_return) << "   # over the same test episodes as [best]\n"
+          << "test_return_std = " << num(fixed->test.std_return) << "\n"
+          << "band_fraction = " << num(fixed->test.mean_band_fraction) << "\n\n";
     out << "[run]\n"
         << "timesteps = " << loop.timesteps() << "\n"
         << "iterations = " << loop.iteration() << "\n"
@@ -566,6 +582,12 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   std::printf("codesign: d* = %s, p* = [%.4g, %.4g] kPa: test return %.2f +- %.2f over %d episodes (band %.0f%%)\n",
               design_label(best.design).c_str(), best.p1_kPa, best.p2_kPa, eb.mean_return, eb.std_return,
               c.eval_episodes, 100.0 * eb.mean_band_fraction);
+  if (fixed)
+    std::printf("codesign: d* with the base held at its best fixed angle %.2f deg (no controller): test return %.2f +- %.2f "
+                "(band %.0f%%); the policy %s it by %.2f\n",
+                fixed->theta0_rad * 180.0 / std::numbers::pi, fixed->test.mean_return, fixed->test.std_return,
+                100.0 * fixed->test.mean_band_fraction, eb.mean_return > fixed->test.mean_return ? "beats" : "trails",
+                std::abs(eb.mean_return - fixed->test.mean_return));
   if (er)
     std::printf("codesign: runner-up %s, p = [%.4g, %.4g] kPa: test return %.2f +- %.2f (band %.0f%%)\n",
                 design_label(runner.design).c_str(), runner.p1_kPa, runner.p2_kPa, er->mean_return, er->std_return,

@@ -80,6 +80,7 @@ void expect_same(const CodesignConfig& a, const CodesignConfig& b) {
   EXPECT_EQ(a.random_plate_phase, b.random_plate_phase);
   EXPECT_EQ(a.plate_phase_rad, b.plate_phase_rad);
   EXPECT_EQ(a.eval_episodes, b.eval_episodes);
+  EXPECT_EQ(a.fixed_theta_phases, b.fixed_theta_phases);
   EXPECT_EQ(a.checkpoint_every, b.checkpoint_every);
   EXPECT_EQ(a.seed, b.seed);
 }
@@ -170,6 +171,7 @@ single_design_p2_kPa = 1.25
 random_plate_phase = false
 plate_phase_deg = 45.0
 eval_episodes = 20
+fixed_theta_phases = 0
 checkpoint_every = 10000
 seed = 4611686018427387904
 [ppo]

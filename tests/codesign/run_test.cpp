@@ -6,12 +6,15 @@
 #include <fstream>
 #include <algorithm>
 #include <map>
+#include <memory>
+#include <numbers>
 #include <sstream>
 #include <string>
 
 #include <unistd.h>
 
 #include "base/errors.hpp"
+#include "codesign/design_sweep.hpp"
 #include "codesign/run.hpp"
 #include "io/csv_table.hpp"
 #include "io/telemetry.hpp"
@@ -67,6 +70,24 @@ TEST(Run, WritesTheRunFolder) {
   const std::string res = slurp(d / "result.toml");
   for (const char* key : {"[best]", "[runner_up]", "[run]", "test_return", "band_fraction", "pressures_kPa", "wall_s"})
     EXPECT_NE(res.find(key), std::string::npos) << key;
+  // The fixed-angle reference on d*: the same numbers as tune_fixed_theta on d* at p* with the
+  // run's phases, tested on the run's test episodes.
+  const RunSettings s = test::tiny_run();
+  auto sims = std::make_shared<SimulatorPool>(s.spec, s.scene, s.solver);
+  const auto table = [&](const std::string& section, const std::string& key) {
+    const auto at = res.find("[" + section + "]");
+    EXPECT_NE(at, std::string::npos) << section;
+    const auto k = res.find("\n" + key + " = ", at);
+    return k == std::string::npos ? std::string() : res.substr(k + key.size() + 4, res.find_first_of(" \n", k + key.size() + 4) - (k + key.size() + 4));
+  };
+  const int design = std::stoi(table("best", "design"));
+  const double p1 = std::stod(res.substr(res.find("pressures_kPa = [", res.find("[best]")) + 17));
+  const double p2 = std::stod(res.substr(res.find(", ", res.find("pressures_kPa = [", res.find("[best]"))) + 2));
+  const FixedThetaTuning ft = tune_fixed_theta(sims, s.loop.task, {design, p1, p2, 0.0, 0.0}, FixedThetaConfig{}, 2,
+                                               s.loop.codesign.eval_episodes, 1);
+  EXPECT_DOUBLE_EQ(std::stod(table("best_fixed_theta", "test_return")), ft.test.mean_return);
+  // (degrees in the file: the conversion back may differ in the last bits)
+  EXPECT_NEAR(std::stod(table("best_fixed_theta", "theta0_deg")) * std::numbers::pi / 180.0, ft.theta0_rad, 1e-12);
   // ppo.csv: header + 6 updates.
   std::istringstream ppo(slurp(d / "ppo.csv"));
   int lines = 0;

@@ -18,6 +18,7 @@ inline RunSettings tiny_run(std::uint64_t seed = 7) {
   l.codesign.exploitation_start = 80;
   l.codesign.beta_end = 2.0;
   l.codesign.eval_episodes = 3;
+  l.codesign.fixed_theta_phases = 2;  // the fixed-angle reference on d*, kept cheap
   l.codesign.checkpoint_every = 20;
   l.codesign.seed = seed;
   l.ppo = rl::paper_ppo_config();
