@@ -587,6 +587,7 @@ struct Simulator::Impl {
         ++it;
       }
       total_iterations += it;
+      res.residual_force_uN = rc.norm() / dt;
       scatter_add(dvf, vnew);
       if (!vnew.allFinite()) return fail(StepStatus::NonFinite, "non-finite velocity in the fast solve");
       // Multipliers: A v = b + dt Jᵀλ  ⇒  λ = −r_constrained / dt.

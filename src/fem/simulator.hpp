@@ -94,6 +94,9 @@ struct StepResult {
   std::string reason;                 // empty when ok
   int iterations = 0;                 // linear iterations (fast) or 1 (exact)
   bool refactorised = false;
+  // Fast: ‖r‖ / dt at the end of the last CG, the out-of-balance force [µN] the step left on
+  // the free DOFs (0 for the exact step).
+  double residual_force_uN = 0.0;
   bool ok() const { return status == StepStatus::Ok; }
 };
 
