@@ -50,8 +50,9 @@ enum class StepMethod { Exact, Fast };
 // When the fast step's CG stops (‖r‖ the residual of the step's equations on the free DOFs, tol
 // = SolverConfig::fast_tolerance):
 //  * Relative: ‖r‖ ≤ tol · max(‖M v + dt f‖, ‖r0‖), r0 the residual of the warm start. The
-//    warm start's residual grows with the change of the base's angular velocity (up to ~70 ‖b‖
-//    at the decision boundaries of `bench fem --turn-deg 5`), so fast turns loosen the test.
+//    warm start's residual grows with the change of the base's angular velocity (at the
+//    decision boundaries of `bench fem --turn-deg 5` it is far above ‖b‖), so fast turns
+//    loosen the test.
 //  * Force: ‖r‖ ≤ tol · dt · max(‖f‖, ‖w‖), f the step's total force and w the body's weight,
 //    both on the free DOFs: a residual force relative to the load of the design, independent
 //    of the velocities and of the warm start (docs/physics.md, "A stopping rule ...").
