@@ -115,8 +115,11 @@ int run_bench(const BenchFemOptions& opt) {
               design, model->node_count(), model->mesh.tets.size(),
               3 * (model->node_count() - static_cast<int>(model->base_nodes.size())), model->fibres.size(),
               s.solver.dt_s, opt.steps);
-  std::printf("  theta target %s per decision d (5 steps each); fast_tolerance %g, refactorise after %d CG iterations\n",
-              theta_schedule_text(opt.turn_deg).c_str(), s.solver.fast_tolerance, s.solver.fast_refactor_iterations);
+  std::printf("  theta target %s per decision d (5 steps each); fast_stop %s, fast_tolerance %g, refactorise after %d CG "
+              "iterations\n",
+              theta_schedule_text(opt.turn_deg).c_str(),
+              s.solver.fast_stop == fem::FastStop::Force ? "force" : "relative", s.solver.fast_tolerance,
+              s.solver.fast_refactor_iterations);
   const Trace fast = run_episode(model, s, fem::StepMethod::Fast, opt.steps, opt.turn_deg);
   const Trace exact = run_episode(model, s, fem::StepMethod::Exact, opt.steps, opt.turn_deg);
   if (!fast.failure.empty() || !exact.failure.empty()) {

@@ -306,6 +306,21 @@ struct Simulator::Impl {
 
   RefSlot& slot(bool dynamic) { return slots[dynamic ? 0 : 1]; }
 
+  // Force scale of the "force" stopping rule [µN]: the larger of ‖f‖ (the step's total force
+  // on the free DOFs: elastic + fibres + gravity + pressure, i.e. the contact reactions when the
+  // body is near balance) and the norm of the body's weight on the free DOFs (so an unloaded body
+  // at rest keeps a finite scale). Neither depends on the velocities.
+  double force_scale() const {
+    double ff = 0.0, ww = 0.0;
+    const double g = model->material.gravity_mm_s2;
+    for (int i = 0; i < n; ++i) {
+      if (free_index[i] < 0) continue;
+      ff += f.segment<3>(3 * i).squaredNorm();
+      ww += model->lumped_mass[i] * model->lumped_mass[i] * g * g;
+    }
+    return std::sqrt(std::max(ff, ww));
+  }
+
   // y = Q A_ref⁻¹ Qᵀ r (free DOFs), Q = blockdiag(warp): the stored inverse turned node by node.
   void apply_ref_inverse(Reference& ref, const Eigen::VectorXd& r, Eigen::VectorXd& y) {
     work_u.resize(r.size());
@@ -492,7 +507,8 @@ struct Simulator::Impl {
     vnew = vg;
     Eigen::VectorXd bf;
     gather(b, bf);
-    double scale = std::max(bf.norm(), 1e-300);
+    const bool relative_stop = solver.fast_stop == FastStop::Relative;
+    double scale = std::max(relative_stop ? bf.norm() : dt * force_scale(), 1e-300);
     double tol = solver.fast_tolerance * scale;
     Eigen::VectorXd av, r, rc, z, p, q, dall(3 * n), pz;
     int total_iterations = 0;
@@ -543,7 +559,7 @@ struct Simulator::Impl {
       project(rc);
       Eigen::VectorXd dvf = Eigen::VectorXd::Zero(3 * nfree);
       const double r0n = rc.norm();
-      if (round == 0 && r0n > scale) {  // residual reduction relative to max(‖b‖, ‖r0‖)
+      if (relative_stop && round == 0 && r0n > scale) {  // residual reduction relative to max(‖b‖, ‖r0‖)
         scale = r0n;
         tol = solver.fast_tolerance * scale;
       }
@@ -571,6 +587,7 @@ struct Simulator::Impl {
         ++it;
       }
       total_iterations += it;
+      res.residual_force_uN = rc.norm() / dt;
       scatter_add(dvf, vnew);
       if (!vnew.allFinite()) return fail(StepStatus::NonFinite, "non-finite velocity in the fast solve");
       // Multipliers: A v = b + dt Jᵀλ  ⇒  λ = −r_constrained / dt.

@@ -106,6 +106,9 @@ void write_fem_tables(std::ostream& out, const fem::WhiskerModelSpec& spec, cons
     t.number("dt_s", solver.dt_s);
     t.number("static_dt_s", solver.static_dt_s);
     t.number("fast_tolerance", solver.fast_tolerance);
+    // Only when it is not the default, so the resolved configs (and fingerprints) of runs made
+    // before the key existed stay as they were.
+    if (solver.fast_stop != fem::SolverConfig{}.fast_stop) t.string("fast_stop", "force");
     t.integer("fast_max_iterations", solver.fast_max_iterations);
     t.integer("fast_refactor_iterations", solver.fast_refactor_iterations);
     t.number("contact_tolerance_mm", solver.contact_tolerance_mm);

@@ -6,6 +6,7 @@
 //   [scene]     inclination_deg, preload_mm, plate_amplitude_mm, plate_frequency_Hz,
 //               plate_phase_deg, theta_limit_deg, settle_steps, tip_region_mm
 //   [solver]    method ("fast" | "exact"), dt_s, static_dt_s, fast_tolerance,
+//               fast_stop ("relative" | "force"),
 //               fast_max_iterations, fast_refactor_iterations, contact_tolerance_mm,
 //               contact_margin_mm
 //   [fibres]    axial_stiffness_N, tension_only (the layout keys belong to the mesh reader)

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <numbers>
 
 #include "fem/box_mesh.hpp"
 #include "fem/simulator.hpp"
@@ -144,6 +146,82 @@ TEST(Simulator, FastStepTracksExactStep) {
   // dynamics, so F stays within a few percent of its range and the tip within micrometres.
   EXPECT_LT(ferr, 0.02 * fscale);
   EXPECT_LT(tip_err, 0.01);
+}
+
+// The "force" stopping rule under base turns of several degrees per decision (as an exploring
+// policy makes), one step at a time: before each step the fast simulator takes the exact one's
+// state, so the two steps solve the same equations from the same state and differ only by where
+// the fast CG stopped.
+//
+// Bound. With the same active set both solve A v = b with the active contacts' vertical
+// velocities and the base prescribed. The exact step has A_ff v*_f = b_f − A_fc v_c; the fast one
+// stops with the residual r_f = b_f − A_ff v_f − A_fc v_c, ‖r_f‖ = dt ρ (ρ =
+// StepResult::residual_force_uN). Both read the reactions as λ = (A v − b)_c / dt, so
+//   F − F* = 1ᵀ A_cf (v_f − v*_f) / dt = wᵀ r_f / dt,   w = A_ff⁻¹ A_fc 1,
+// and |F − F*| ≤ ‖w‖ ρ. −w is how the free nodes follow when the contact nodes move down by one
+// unit with the base held: for a bar clamped at one end and pushed at the other no node moves
+// farther than the pushed end, |w_i| ≤ 1 per component, so ‖w‖ ≤ √(3 N_free) and
+//   |ΔF| ≤ √(3 N_free) ρ,   ρ ≤ fast_tolerance · max(‖f‖, ‖weight‖) by the rule.
+// (The fast force pass's rotation tolerance, 1e-6, adds a force error of that relative size,
+// well below ρ here.) Steps whose active sets differ are not covered by this bound and skipped;
+// the test requires that most steps are compared.
+TEST(Simulator, ForceStopKeepsTheStepForceErrorWithinItsResidualBound) {
+  const auto model = bar_model();
+  SceneConfig sc = bar_scene();
+  sc.plate_amplitude_mm = 1.0;
+  sc.plate_frequency_Hz = 0.8;
+  SolverConfig ex, fa;
+  ex.method = StepMethod::Exact;
+  fa.method = StepMethod::Fast;
+  fa.fast_stop = FastStop::Force;
+  fa.fast_tolerance = 4e-3;  // the setting docs/physics.md recommends
+  Simulator exact(model, sc, ex), fast(model, sc, fa);
+  ASSERT_TRUE(exact.settle().ok());
+  const int n_free = model->node_count() - static_cast<int>(model->base_nodes.size());
+  const double reach = std::sqrt(3.0 * n_free);
+  const int steps = 60;
+  int compared = 0;
+  double worst = 0.0;  // largest |ΔF| / bound
+  for (int k = 0; k < steps; ++k) {
+    if (k % 5 == 0) exact.set_base_angle_target(3.0 * std::numbers::pi / 180.0 * std::sin(1.1 * (k / 5)), 5);
+    ASSERT_TRUE(fast.restore(exact.snapshot()).ok());
+    const StepResult rf = fast.step();
+    ASSERT_TRUE(rf.ok()) << rf.reason;
+    ASSERT_TRUE(exact.step().ok());
+    const Sensors se = exact.sensors(), sf = fast.sensors();
+    if (se.active_contacts != sf.active_contacts || !se.in_contact) continue;
+    ++compared;
+    const double bound = reach * rf.residual_force_uN * 1e-3;  // mN
+    const double err = std::abs(sf.contact_force_mN - se.contact_force_mN);
+    EXPECT_LE(err, bound) << "step " << k << ": F " << se.contact_force_mN << " mN";
+    if (bound > 0.0) worst = std::max(worst, err / bound);
+  }
+  EXPECT_GE(compared, steps * 3 / 4);
+  std::printf("[force stop] %d of %d steps compared; largest |dF| / bound = %.3g\n", compared, steps, worst);
+}
+
+TEST(Simulator, RelativeStopIsTheDefault) {
+  EXPECT_EQ(SolverConfig{}.fast_stop, FastStop::Relative);
+  // Stating the default changes nothing: the same steps bit for bit.
+  const auto model = bar_model();
+  SceneConfig sc = bar_scene();
+  sc.plate_amplitude_mm = 1.0;
+  SolverConfig stated;
+  stated.fast_stop = FastStop::Relative;
+  Simulator a(model, sc, SolverConfig{}), b(model, sc, stated);
+  ASSERT_TRUE(a.settle().ok());
+  ASSERT_TRUE(b.settle().ok());
+  for (int k = 0; k < 20; ++k) {
+    if (k % 5 == 0) {
+      const double target = 0.05 * std::sin(1.1 * (k / 5));
+      a.set_base_angle_target(target, 5);
+      b.set_base_angle_target(target, 5);
+    }
+    ASSERT_TRUE(a.step().ok());
+    ASSERT_TRUE(b.step().ok());
+    EXPECT_EQ(a.sensors().contact_force_mN, b.sensors().contact_force_mN);
+    EXPECT_EQ(a.positions(), b.positions());
+  }
 }
 
 TEST(Simulator, NumericalFailureIsReportedNotThrown) {

@@ -68,6 +68,7 @@ void expect_same(const FemTables& a, const FemTables& b) {
   EXPECT_EQ(a.solver.dt_s, b.solver.dt_s);
   EXPECT_EQ(a.solver.static_dt_s, b.solver.static_dt_s);
   EXPECT_EQ(a.solver.fast_tolerance, b.solver.fast_tolerance);
+  EXPECT_EQ(a.solver.fast_stop, b.solver.fast_stop);
   EXPECT_EQ(a.solver.fast_max_iterations, b.solver.fast_max_iterations);
   EXPECT_EQ(a.solver.fast_refactor_iterations, b.solver.fast_refactor_iterations);
   EXPECT_EQ(a.solver.contact_tolerance_mm, b.solver.contact_tolerance_mm);
@@ -139,6 +140,7 @@ method = "exact"
 dt_s = 0.005
 static_dt_s = 0.7
 fast_tolerance = 1e-3
+fast_stop = "force"
 fast_max_iterations = 40
 fast_refactor_iterations = 12
 contact_tolerance_mm = 3e-5
@@ -230,6 +232,7 @@ TEST(ConfigWriter, FemNonDefaultRoundTrip) {
   EXPECT_NE(text.find("axial_stiffness_N = 43.7\n"), std::string::npos) << text;
   EXPECT_NE(text.find("plate_phase_deg = 37.3\n"), std::string::npos) << text;
   EXPECT_NE(text.find("method = \"exact\"\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("fast_stop = \"force\"\n"), std::string::npos) << text;
 }
 
 // The scaled keys read back bit-identical for any value a reader produced, not only tidy ones.
