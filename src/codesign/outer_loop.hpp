@@ -102,7 +102,8 @@ class OuterLoop {
 
   const LoopConfig& config() const { return config_; }
   const rl::ActorCritic& model() const { return model_; }
-  // The frozen observation normalisation the policy acts after (ppo.normalize_observations);
+  // The frozen observation normalisation the policy acts after (ppo.normalize_observations), of
+  // the actor's components only (a privileged critic's features are not the policy's input);
   // nullopt when off.
   std::optional<rl::ObsNormalization> obs_normalization() const;
   const DesignDistribution& distribution() const { return distribution_; }

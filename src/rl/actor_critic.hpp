@@ -65,7 +65,8 @@ class ActorCriticT {
   // Rows of a batch for act(), value() and the PPO loss: obs_dim() + privileged_dim().
   int critic_input_dim() const { return critic_.input_dim(); }
   int privileged_dim() const { return critic_.input_dim() - actor_.input_dim(); }
-  // The actor's rows of a batch of critic_input_dim() rows (a copy only when they differ).
+  // A copy of the actor's rows of a batch of critic_input_dim() rows (callers use it only when
+  // privileged_dim() > 0; otherwise the batch is the actor's input as it is).
   Mat actor_rows(const Eigen::Ref<const Mat>& obs) const { return obs.topRows(obs_dim()); }
   int act_dim() const { return actor_.output_dim(); }
   Eigen::Index num_params() const {
