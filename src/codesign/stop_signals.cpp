@@ -18,12 +18,17 @@ struct sigaction g_previous_term, g_previous_int;
 
 extern "C" void on_stop_signal(int signo) {
   int none = 0;
-  g_stop_signal.compare_exchange_strong(none, signo);
+  const bool first = g_stop_signal.compare_exchange_strong(none, signo);
   struct sigaction dfl {};
   dfl.sa_handler = SIG_DFL;
   sigemptyset(&dfl.sa_mask);
   sigaction(SIGTERM, &dfl, nullptr);
   sigaction(SIGINT, &dfl, nullptr);
+  // Two signals sent back to back can reach two threads at once, both before either handler
+  // has restored the default action: the one that finds a signal already recorded is the
+  // second, and ends the process with the default action (raise() leaves it pending, blocked by
+  // sa_mask, until this handler returns).
+  if (!first) raise(signo);
 }
 
 }  // namespace
