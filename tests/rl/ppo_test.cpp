@@ -39,22 +39,29 @@ BatchD random_batch(const ModelD& m, int n, double log_ratio_spread, Rng& rng) {
   return b;
 }
 
+const PpoLossCoefficients kFdCoefs{0.2, 0.05, 0.6, true};
+
+// The full loss's analytic gradient of every block against finite differences; the loss at the
+// unperturbed parameters goes to *loss_out if given. Call under ASSERT_NO_FATAL_FAILURE.
+void expect_full_loss_gradient_matches(ModelD& model, const BatchD& batch, PpoLossT<double>* loss_out = nullptr) {
+  PpoWorkspaceT<double> ws;
+  auto grad = model.zero_grad();
+  const auto l = ppo_minibatch_loss<double>(model, batch, kFdCoefs, &grad, ws);
+  if (loss_out) *loss_out = l;
+  // Both branches of the clipped surrogate must be exercised for the check to mean anything.
+  ASSERT_GT(l.clip_fraction, 0.0);
+  ASSERT_LT(l.clip_fraction, 1.0);
+  auto loss = [&] { return ppo_minibatch_loss<double>(model, batch, kFdCoefs, nullptr, ws).loss; };
+  test::expect_gradient_matches(model.actor().params(), loss, grad.actor, "actor");
+  test::expect_gradient_matches(model.critic().params(), loss, grad.critic, "critic");
+  test::expect_gradient_matches(model.log_std(), loss, grad.log_std, "log_std");
+}
+
 TEST(PpoLoss, FullLossGradientMatchesFiniteDifferences) {
   Rng rng(21);
   ModelD model(3, 2, {5, 4}, {6}, 0.0);
   randomise(model, rng, 0.5);
-  const BatchD batch = random_batch(model, 9, 0.3, rng);
-  const PpoLossCoefficients coefs{0.2, 0.05, 0.6, true};
-  PpoWorkspaceT<double> ws;
-  auto grad = model.zero_grad();
-  const auto l = ppo_minibatch_loss<double>(model, batch, coefs, &grad, ws);
-  // Both branches of the clipped surrogate must be exercised for the check to mean anything.
-  ASSERT_GT(l.clip_fraction, 0.0);
-  ASSERT_LT(l.clip_fraction, 1.0);
-  auto loss = [&] { return ppo_minibatch_loss<double>(model, batch, coefs, nullptr, ws).loss; };
-  test::expect_gradient_matches(model.actor().params(), loss, grad.actor, "actor");
-  test::expect_gradient_matches(model.critic().params(), loss, grad.critic, "critic");
-  test::expect_gradient_matches(model.log_std(), loss, grad.log_std, "log_std");
+  ASSERT_NO_FATAL_FAILURE(expect_full_loss_gradient_matches(model, random_batch(model, 9, 0.3, rng)));
 }
 
 // A privileged critic (asymmetric actor-critic) reads 2 more rows than the actor: the gradient
@@ -66,17 +73,11 @@ TEST(PpoLoss, PrivilegedCriticGradientMatchesFiniteDifferencesAndTheActorIgnores
   ASSERT_EQ(model.critic_input_dim(), 5);
   ASSERT_EQ(model.privileged_dim(), 2);
   randomise(model, rng, 0.5);
-  BatchD batch = random_batch(model, 9, 0.3, rng);
-  const PpoLossCoefficients coefs{0.2, 0.05, 0.6, true};
+  const BatchD batch = random_batch(model, 9, 0.3, rng);
+  PpoLossT<double> l;
+  ASSERT_NO_FATAL_FAILURE(expect_full_loss_gradient_matches(model, batch, &l));
+  const PpoLossCoefficients& coefs = kFdCoefs;
   PpoWorkspaceT<double> ws;
-  auto grad = model.zero_grad();
-  const auto l = ppo_minibatch_loss<double>(model, batch, coefs, &grad, ws);
-  ASSERT_GT(l.clip_fraction, 0.0);
-  ASSERT_LT(l.clip_fraction, 1.0);
-  auto loss = [&] { return ppo_minibatch_loss<double>(model, batch, coefs, nullptr, ws).loss; };
-  test::expect_gradient_matches(model.actor().params(), loss, grad.actor, "actor");
-  test::expect_gradient_matches(model.critic().params(), loss, grad.critic, "critic");
-  test::expect_gradient_matches(model.log_std(), loss, grad.log_std, "log_std");
 
   // Changing only the privileged rows: the policy terms are unchanged to the last bit (the actor
   // never reads them), the value loss moves.
