@@ -176,6 +176,7 @@ void write_ppo_table(std::ostream& out, const rl::PpoConfig& c) {
   t.integers("actor_hidden", c.actor_hidden);
   t.integers("critic_hidden", c.critic_hidden);
   t.number("log_std_init", c.log_std_init);
+  if (c.log_std_min) t.number("log_std_min", *c.log_std_min);  // only when set (old fingerprints)
   t.number("adam_eps", c.adam_eps);
   t.string("matmul_precision", c.matmul_precision == rl::MatmulPrecision::BFloat16 ? "bf16" : "float32");
 }

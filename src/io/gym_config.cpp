@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -88,6 +89,16 @@ rl::PpoConfig read_ppo_config(TableReader& t, const rl::PpoConfig& d) {
   c.critic_hidden =
       hidden(t, "critic_hidden", d.critic_hidden);
   c.log_std_init = t.number("log_std_init", d.log_std_init, ppo_range::log_std_init);
+  c.log_std_min = d.log_std_min;
+  if (t.has("log_std_min")) {
+    c.log_std_min = t.number("log_std_min", 0.0, ppo_range::log_std_init);
+    if (!(c.log_std_init >= *c.log_std_min)) {
+      std::ostringstream m;
+      m << "value " << *c.log_std_min << " is above log_std_init = " << c.log_std_init << "; allowed: ["
+        << ppo_range::log_std_init.lo << ", log_std_init]";
+      t.fail("log_std_min", m.str());
+    }
+  }
   c.adam_eps = t.number("adam_eps", d.adam_eps, ppo_range::adam_eps);
   const std::string precision =
       t.string("matmul_precision", "auto", {"auto", "float32", "bf16"});

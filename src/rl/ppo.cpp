@@ -91,6 +91,10 @@ void validate(const PpoConfig& c) {
   check("max_grad_norm", c.max_grad_norm, ppo_range::max_grad_norm);
   if (c.target_kl) check("target_kl", *c.target_kl, ppo_range::target_kl);
   check("log_std_init", c.log_std_init, ppo_range::log_std_init);
+  if (c.log_std_min) {
+    check("log_std_min", *c.log_std_min, ppo_range::log_std_init);
+    if (!(c.log_std_init >= *c.log_std_min)) fail("need log_std_init >= log_std_min");
+  }
   check("adam_eps", c.adam_eps, ppo_range::adam_eps);
   if (c.matmul_precision == MatmulPrecision::BFloat16 && !bf16_gemm_available())
     fail("matmul_precision bf16 needs AVX-512 BF16, which this build/CPU does not have");
@@ -267,15 +271,21 @@ PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& bu
         optimizer.begin_step(blocks, lr, std::min(clip_coef, 1.0));
         ws.actor_pending = [&](Eigen::Index b, Eigen::Index e) { optimizer.apply(blocks, 0, b, e); };
         ws.critic_pending = [&](Eigen::Index b, Eigen::Index e) { optimizer.apply(blocks, 1, b, e); };
-        ws.log_std_pending = [&] { optimizer.apply(blocks, 2, 0, blocks[2].size); };
+        ws.log_std_pending = [&] {
+          optimizer.apply(blocks, 2, 0, blocks[2].size);
+          apply_log_std_floor(config, model.log_std());
+        };
       } else {
         optimizer.step(blocks, lr, std::min(clip_coef, 1.0));
+        apply_log_std_floor(config, model.log_std());
       }
       ++stats.minibatches_applied;
     }
   }
-  if (optimizer.pending())  // the last step: no forward pass follows
+  if (optimizer.pending()) {  // the last step: no forward pass follows
     for (std::size_t i = 0; i < blocks.size(); ++i) optimizer.apply(blocks, i, 0, blocks[i].size);
+    apply_log_std_floor(config, model.log_std());
+  }
   if (n_losses > 0) {
     stats.pg_loss = sum_pg / n_losses;
     stats.value_loss = sum_v / n_losses;

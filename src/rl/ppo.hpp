@@ -66,6 +66,13 @@ struct PpoConfig {
   std::vector<int> actor_hidden = {64, 64};
   std::vector<int> critic_hidden = {64, 64};
   double log_std_init = 0.0;
+  // Floor of the learned log-std (ours; SB3's DiagGaussian has none): after every optimiser step
+  // each component is projected back to at least log_std_min, so the exploration noise cannot
+  // shrink below exp(log_std_min). Why: the KL between two Gaussians of equal sigma grows as
+  // (change of mean / sigma)^2, and a paper-size co-design whose sigma shrank from 0.018 to 0.006
+  // ran into updates with approx_kl 0.5-20 and collapsed (docs/results.md). Unset: no floor.
+  // Needs log_std_init >= log_std_min.
+  std::optional<double> log_std_min;
   double adam_eps = 1e-5;
   // Arithmetic of the large matrix products of actor and critic (gemm.hpp). BFloat16 rounds the
   // operands of those products to bf16 and keeps float32 sums, parameters, optimiser state and
@@ -108,6 +115,14 @@ double learning_rate_at(const PpoConfig& config, std::int64_t num_timesteps);
 
 // Throws std::invalid_argument naming the field if a value is outside its ppo_range.
 void validate(const PpoConfig& config);
+
+// Projects log_std onto [log_std_min, inf) component by component when the config sets a floor
+// (PpoConfig::log_std_min); does nothing otherwise. Called after each optimiser step.
+template <class Vec>
+void apply_log_std_floor(const PpoConfig& config, Vec& log_std) {
+  if (config.log_std_min)
+    log_std = log_std.cwiseMax(static_cast<typename Vec::Scalar>(*config.log_std_min));
+}
 
 // Averages over all minibatches processed (as SB3 logs them), except approx_kl, which is the mean
 // over the minibatches of the LAST epoch (SB3 resets its list every epoch), and

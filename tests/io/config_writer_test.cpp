@@ -113,6 +113,7 @@ void expect_same(const rl::PpoConfig& a, const rl::PpoConfig& b) {
   EXPECT_EQ(a.actor_hidden, b.actor_hidden);
   EXPECT_EQ(a.critic_hidden, b.critic_hidden);
   EXPECT_EQ(a.log_std_init, b.log_std_init);
+  EXPECT_EQ(a.log_std_min, b.log_std_min);
   EXPECT_EQ(a.adam_eps, b.adam_eps);
   EXPECT_EQ(a.matmul_precision, b.matmul_precision);
 }
@@ -189,6 +190,7 @@ privileged_critic = true
 actor_hidden = [32, 48, 16]
 critic_hidden = [96]
 log_std_init = -0.5
+log_std_min = -2.25
 adam_eps = 1e-7
 matmul_precision = "float32"
 )";
@@ -281,6 +283,7 @@ TEST(ConfigWriter, PpoDefaultsRoundTrip) {
   const std::string text = write_ppo(sb3);
   EXPECT_EQ(text.find("target_kl"), std::string::npos);
   EXPECT_EQ(text.find("ent_decay"), std::string::npos);
+  EXPECT_EQ(text.find("log_std_min"), std::string::npos);  // unset: not written (old fingerprints)
   const rl::PpoConfig back = read_ppo(text, {});
   expect_same(back, sb3);
   EXPECT_EQ(write_ppo(back), text);

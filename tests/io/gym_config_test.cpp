@@ -132,6 +132,15 @@ TEST(GymConfig, CrossFieldRules) {
   m = error_of("[ppo]\nlr_decay_start = 1\nlr_decay_end = 2\nlearning_rate_final = 2.0\n");
   EXPECT_NE(m.find("ppo.learning_rate_final: value 2 is out of range; allowed [0, 1]"), std::string::npos) << m;
 
+  // The log-std floor must not be above the initial log-std.
+  m = error_of("[ppo]\nlog_std_init = -3.0\nlog_std_min = -2.5\n");
+  EXPECT_NE(m.find("test.toml"), std::string::npos) << m;
+  EXPECT_NE(m.find("ppo.log_std_min: value -2.5 is above log_std_init = -3; allowed: [-20, log_std_init]"),
+            std::string::npos) << m;
+  m = error_of("[ppo]\nlog_std_min = -21.0\n");
+  EXPECT_NE(m.find("ppo.log_std_min"), std::string::npos) << m;
+  EXPECT_NO_THROW(parse("[ppo]\nlog_std_init = -3.0\nlog_std_min = -3.0\n"));
+
   // The gym tasks have no privileged features for a privileged critic.
   m = error_of("[ppo]\nprivileged_critic = true\n");
   EXPECT_NE(m.find("test.toml"), std::string::npos) << m;

@@ -374,6 +374,53 @@ TEST(PpoUpdate, StepsWithTheScheduledLearningRate) {
   EXPECT_EQ(none.cwiseAbs().maxCoeff(), 0.0);
 }
 
+// The log-std floor (PpoConfig::log_std_min) is a projection after each optimiser step: with a
+// large learning rate and no entropy bonus the unfloored update drives some log-std component
+// below the floor (checked first, so the test can fail), the floored one leaves every component
+// at or above it, in both the deferred and the immediate step; a floor far below changes no bit.
+TEST(PpoUpdate, LogStdFloorIsKeptAfterEveryStep) {
+  Rng rng(3);
+  ActorCritic model(2, 4, {8}, {8});
+  model.init_orthogonal(rng);
+  RolloutBuffer buf(5, 2, 2, 4);
+  for (int t = 0; t < 5; ++t) {
+    Eigen::MatrixXf obs(2, 2);
+    for (Eigen::Index i = 0; i < obs.size(); ++i) obs(i) = static_cast<float>(rng.normal());
+    const auto a = model.act(obs, rng);
+    Eigen::RowVectorXf r(2);
+    r << static_cast<float>(rng.normal()), static_cast<float>(rng.normal());
+    buf.add(obs, a.actions, r, Eigen::RowVectorXf::Constant(2, t == 0 ? 1.f : 0.f), a.values,
+            a.log_probs);
+  }
+  buf.compute_returns_and_advantage(Eigen::RowVectorXf::Zero(2), Eigen::RowVectorXf::Zero(2),
+                                    0.99, 0.95);
+  PpoConfig cfg;
+  cfg.batch_size = 4;
+  cfg.n_epochs = 5;
+  cfg.learning_rate = 0.05;
+  cfg.ent_coef = 0.0;
+  auto run = [&](std::optional<double> floor, bool defer) {
+    ActorCritic m = model;
+    PpoConfig c = cfg;
+    c.log_std_min = floor;
+    Adam adam = make_adam(c);
+    Rng r(9);
+    ppo_update(m, adam, buf, c, 0, r, defer);
+    return m;
+  };
+  const ActorCritic free = run(std::nullopt, true);
+  const float floor = 0.0f;  // log_std_init of PpoConfig{}
+  ASSERT_LT(free.log_std().minCoeff(), floor - 0.01f) << "the update must push below the floor";
+  for (bool defer : {true, false}) {
+    const ActorCritic floored = run(0.0, defer);
+    EXPECT_GE(floored.log_std().minCoeff(), floor);
+    EXPECT_EQ(floored.log_std().minCoeff(), floor);  // the projected component sits at the floor
+  }
+  const ActorCritic low = run(-20.0, true);  // never reached: the same bits as no floor
+  EXPECT_EQ(low.log_std(), free.log_std());
+  EXPECT_EQ(low.actor().params(), free.actor().params());
+}
+
 TEST(PpoConfig, ValidateRejectsBadValues) {
   PpoConfig c;
   c.batch_size = 0;
@@ -389,6 +436,12 @@ TEST(PpoConfig, ValidateRejectsBadValues) {
   c.lr_decay_start = 5;
   c.learning_rate_final = -1e-4;
   EXPECT_THROW(validate(c), std::invalid_argument);
+  c = PpoConfig{};
+  c.log_std_init = -3.0;
+  c.log_std_min = -2.0;  // above the initial value
+  EXPECT_THROW(validate(c), std::invalid_argument);
+  c.log_std_min = -3.0;
+  EXPECT_NO_THROW(validate(c));
   EXPECT_NO_THROW(validate(paper_ppo_config()));
 }
 
