@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <optional>
@@ -248,6 +249,7 @@ void publish_iteration(io::Telemetry& tel, const IterationReport& rep, const Dis
   q.phase = to_string(sum.phase);
   q.beta = rep.beta;
   q.entropy = sum.entropy;
+  q.target_entropy = sum.target_entropy.value_or(std::numeric_limits<double>::quiet_NaN());
   for (Eigen::Index j = 0; j < sum.q.size() && j < 110; ++j) q.probabilities[j] = sum.q[j];
   q.best_design = sum.best;
   q.best_score = sum.best_score;
