@@ -9,6 +9,18 @@ namespace codesign::coopt {
 
 enum class Baseline { None, SingleDesign };
 
+// How β(t) of q_disc = softmax(β R̂) is set from T1 on (docs/codesign.md, "Phases and β"):
+//   Ramp     the paper's: linear from beta_start at T1 to beta_end at T2, beta_end after.
+//   Entropy  ours, after Schaff et al.: at each t, the β ≥ 0 whose softmax has the entropy of a
+//            line from ln n at T1 to entropy_end at T2 (entropy_end after), found by bisection.
+enum class BetaSchedule { Ramp, Entropy };
+inline const char* to_string(BetaSchedule s) { return s == BetaSchedule::Entropy ? "entropy" : "ramp"; }
+
+// Default target entropy of q_disc at T2 for the entropy schedule: ln 3 nats (perplexity 3, about
+// three designs still drawn when the distribution collapses; issue 18 asks for H(q_disc) ≤ ln 3
+// at T2). The literal is std::log(3.0) rounded to double (a test checks it).
+inline constexpr double kDefaultEntropyEnd = 1.0986122886681098;
+
 struct CodesignConfig {
   std::int64_t total_timesteps = 1'000'000;  // T: decisions over all environments (paper, Table I)
   int designs_per_update = 40;          // ψ: designs sampled (and environments) per iteration (paper)
@@ -18,6 +30,9 @@ struct CodesignConfig {
   double phi = 0.05;                    // baseline tracking rate of Eq. 9 (paper)
   double beta_start = 0.0;              // β(t) ramps linearly from beta_start at T1 ... (ours)
   double beta_end = 0.5;                // ... to beta_end at T2; β = 0 before T1 (paper)
+  BetaSchedule beta_schedule = BetaSchedule::Ramp;  // ramp (paper) or entropy (ours); above
+  double entropy_end = kDefaultEntropyEnd;          // entropy schedule: H(q_disc) at T2, nats
+                                                    // (allowed [0, ln 110]; unused by the ramp)
   int reward_buffer = 100;              // per-design reward buffer for the running stats (ours)
   double latent_mu0 = 0.0;              // μ_0 in the latent space (ours): p = p_max·sigmoid(z)
   double latent_sigma0 = 1.0;           // Σ_0 = σ_0² I in the latent space (ours)

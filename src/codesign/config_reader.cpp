@@ -1,6 +1,7 @@
 #include "codesign/config_reader.hpp"
 
 #include <array>
+#include <cmath>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -64,6 +65,11 @@ CodesignConfig read_codesign_config(io::TableReader& root, const TaskConfig& tas
   c.phi = t.number("phi", c.phi, 0.0, 1.0);
   c.beta_start = t.number("beta_start", c.beta_start, 0.0, 1e3);
   c.beta_end = t.number("beta_end", c.beta_end, 0.0, 1e3);
+  const std::string schedule = t.string("beta_schedule", to_string(c.beta_schedule), {"ramp", "entropy"});
+  c.beta_schedule = schedule == "entropy" ? BetaSchedule::Entropy : BetaSchedule::Ramp;
+  // At most ln 110 = 4.70048: the entropy of the uniform distribution over the designs, q_disc at T1.
+  const double max_entropy = std::log(static_cast<double>(fem::kDesignCount));
+  c.entropy_end = t.number("entropy_end", c.entropy_end, 0.0, max_entropy);
   c.reward_buffer = static_cast<int>(t.integer("reward_buffer", c.reward_buffer, 2, 100000));
   c.latent_mu0 = t.number("latent_mu0", c.latent_mu0, -10.0, 10.0);
   c.latent_sigma0 = t.number("latent_sigma0", c.latent_sigma0, 1e-6, 10.0);

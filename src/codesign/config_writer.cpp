@@ -46,6 +46,10 @@ void write_codesign_table(std::ostream& out, const CodesignConfig& c) {
   t.number("phi", c.phi);
   t.number("beta_start", c.beta_start);
   t.number("beta_end", c.beta_end);
+  // Both written only when not the default, so that a ramp run's config.toml (and checkpoint
+  // fingerprint) is what it was before the keys existed.
+  if (c.beta_schedule != CodesignConfig{}.beta_schedule) t.string("beta_schedule", to_string(c.beta_schedule));
+  if (c.entropy_end != CodesignConfig{}.entropy_end) t.number("entropy_end", c.entropy_end);
   t.integer("reward_buffer", c.reward_buffer);
   t.number("latent_mu0", c.latent_mu0);
   t.number("latent_sigma0", c.latent_sigma0);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
@@ -66,6 +67,10 @@ void DistributionConfig::validate() const {
     bad_field("beta_start", str(beta_start), "[0, inf)");
   if (!(std::isfinite(beta_end) && beta_end >= 0.0))
     bad_field("beta_end", str(beta_end), "[0, inf)");
+  if (beta_schedule != BetaSchedule::Ramp && beta_schedule != BetaSchedule::Entropy)
+    bad_field("beta_schedule", str(static_cast<int>(beta_schedule)), "ramp or entropy");
+  if (!(std::isfinite(entropy_end) && entropy_end >= 0.0))
+    bad_field("entropy_end", str(entropy_end), "[0, ln(number of designs)]");
   if (reward_buffer < 2) bad_field("reward_buffer", str(reward_buffer), "[2, inf)");
   if (!(std::isfinite(pressure_max_kPa) && pressure_max_kPa > 0.0))
     bad_field("pressure_max_kPa", str(pressure_max_kPa), "(0, inf)");
@@ -87,6 +92,10 @@ DesignDistribution::DesignDistribution(const DistributionConfig& config, std::ve
                                   "] = " + std::to_string(chambers_[j]) + "; allowed 1 or 2");
   }
   const auto n = chambers_.size();
+  const double max_entropy = std::log(static_cast<double>(n));
+  if (config_.beta_schedule == BetaSchedule::Entropy && config_.entropy_end > max_entropy)
+    bad_field("entropy_end", str(config_.entropy_end),
+              "[0, ln " + std::to_string(n) + " = " + str(max_entropy) + "]");
   const double s0 = config_.latent_sigma0 * config_.latent_sigma0;
   state_.score = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
   state_.baseline = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
@@ -137,6 +146,8 @@ Phase DesignDistribution::phase(std::int64_t t) const {
 }
 
 double DesignDistribution::beta(std::int64_t t) const {
+  if (config_.beta_schedule == BetaSchedule::Entropy)
+    return phase(t) == Phase::Exploration ? 0.0 : entropy_matching_beta(state_.score, *target_entropy(t));
   switch (phase(t)) {
     case Phase::Exploration: return 0.0;
     case Phase::Transition: {
@@ -147,6 +158,21 @@ double DesignDistribution::beta(std::int64_t t) const {
     case Phase::Exploitation: return config_.beta_end;
   }
   return 0.0;
+}
+
+std::optional<double> DesignDistribution::target_entropy(std::int64_t t) const {
+  if (config_.beta_schedule != BetaSchedule::Entropy) return std::nullopt;
+  const double start = std::log(static_cast<double>(design_count()));
+  switch (phase(t)) {
+    case Phase::Exploration: return start;
+    case Phase::Transition: {
+      const double f = static_cast<double>(t - config_.exploration_end) /
+                       static_cast<double>(config_.exploitation_start - config_.exploration_end);
+      return start + f * (config_.entropy_end - start);
+    }
+    case Phase::Exploitation: return config_.entropy_end;
+  }
+  return start;
 }
 
 // exp by std::exp, element by element: Eigen's vectorised exp clamps its argument (e^-5000
@@ -160,19 +186,45 @@ Eigen::VectorXd DesignDistribution::probabilities(std::int64_t t) const {
   return e / e.sum();
 }
 
-double DesignDistribution::entropy(std::int64_t t) const {
-  const double b = beta(t);
-  const double top = (b * state_.score).maxCoeff();
+double DesignDistribution::entropy(std::int64_t t) const { return softmax_entropy(state_.score, beta(t)); }
+
+double softmax_entropy(const Eigen::VectorXd& score, double b) {
+  const double top = (b * score).maxCoeff();
   double z = 0.0;
-  for (Eigen::Index j = 0; j < state_.score.size(); ++j) z += std::exp(b * state_.score(j) - top);
+  for (Eigen::Index j = 0; j < score.size(); ++j) z += std::exp(b * score(j) - top);
   const double log_z = std::log(z);
   double h = 0.0;
-  for (Eigen::Index j = 0; j < state_.score.size(); ++j) {
-    const double log_q = b * state_.score(j) - top - log_z;
+  for (Eigen::Index j = 0; j < score.size(); ++j) {
+    const double log_q = b * score(j) - top - log_z;
     const double q = std::exp(log_q);
     if (q > 0.0) h -= q * log_q;
   }
   return h;
+}
+
+double entropy_matching_beta(const Eigen::VectorXd& score, double target) {
+  const Eigen::Index n = score.size();
+  if (n <= 1 || !(target < std::log(static_cast<double>(n)))) return 0.0;
+  const double top = score.maxCoeff();
+  double next = -std::numeric_limits<double>::infinity();  // the largest score below the top
+  for (Eigen::Index j = 0; j < n; ++j)
+    if (score(j) < top) next = std::max(next, score(j));
+  if (next == -std::numeric_limits<double>::infinity()) return 0.0;  // all equal: q uniform for any β
+  const double cap = std::min(kBetaCapLogit / (top - next), kBetaMax);
+  if (softmax_entropy(score, cap) > target) return cap;  // floor ln(#tied maxima) above the target
+  // Invariant: H(lo) > target ≥ H(hi). Each halving keeps it; the loop ends on the relative
+  // width, or when no double lies strictly between the ends (a bound of 4096 is a safety net only).
+  double lo = 0.0, hi = cap;
+  for (int i = 0; i < 4096 && hi - lo > kBetaRelTolerance * hi; ++i) {
+    const double mid = lo + 0.5 * (hi - lo);
+    if (mid <= lo || mid >= hi) break;
+    if (softmax_entropy(score, mid) <= target) {
+      hi = mid;
+    } else {
+      lo = mid;
+    }
+  }
+  return hi;
 }
 
 DesignSample DesignDistribution::sample(std::int64_t t, rl::Rng& rng) const {

@@ -12,10 +12,12 @@
 //   q.update(samples, returns, t);                    // Algorithm 2, samples in order
 //   DesignDistribution resumed(config, chambers, q.state());  // exact restore
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "codesign/codesign_config.hpp"
 #include "rl/rng.hpp"
 
 namespace codesign::coopt {
@@ -30,6 +32,11 @@ struct DistributionConfig {
   double phi = 0.05;              // baseline tracking rate of Eq. 9 (paper)
   double beta_start = 0.0;        // β ramps linearly from beta_start at T1 to beta_end at T2;
   double beta_end = 0.5;          // β = 0 before T1 (paper), beta_end from T2 on (ours)
+  // Ramp: β as above. Entropy: β solved so that H(q_disc) follows a line from ln n at T1 to
+  // entropy_end at T2 (entropy_end from T2 on); beta_start and beta_end are then unused, as
+  // entropy_end is under the ramp. codesign_config.hpp and docs/codesign.md.
+  BetaSchedule beta_schedule = BetaSchedule::Ramp;
+  double entropy_end = kDefaultEntropyEnd;  // nats; ≤ ln n is checked by the constructor
   int reward_buffer = 100;        // per-design buffer of recent returns for the running stats (ours)
   double pressure_max_kPa = 20.0; // p_i ∈ (0, p_max) (paper: [0, 20] kPa)
   double latent_mu0 = 0.0;        // μ0 in latent space, both components (ours)
@@ -37,8 +44,9 @@ struct DistributionConfig {
   double latent_sigma_min = 1e-3; // eigenvalue floor σ_min² of Σ after Eq. 8 (ours: keeps Σ PD)
 
   // Throws std::invalid_argument naming the first bad field and its allowed range:
-  // 0 ≤ T1 < T2; alpha > 0; phi ∈ [0, 1]; beta_start, beta_end ≥ 0; reward_buffer ≥ 2;
-  // pressure_max_kPa > 0; latent_mu0 finite; 0 < latent_sigma_min ≤ latent_sigma0.
+  // 0 ≤ T1 < T2; alpha > 0; phi ∈ [0, 1]; beta_start, beta_end ≥ 0; entropy_end ≥ 0 (finite);
+  // reward_buffer ≥ 2; pressure_max_kPa > 0; latent_mu0 finite; 0 < latent_sigma_min ≤
+  // latent_sigma0. (entropy_end ≤ ln n needs the number of designs: the constructor checks it.)
   void validate() const;
 };
 
@@ -61,10 +69,29 @@ struct DistributionState {
   Eigen::Vector2d best_latent = Eigen::Vector2d::Zero();  // μ_{j*} at the collapse
 };
 
+// H(softmax(β·score)) in nats, computed as entropy() computes it (the largest logit subtracted,
+// std::exp element by element, zero probabilities contributing 0).
+double softmax_entropy(const Eigen::VectorXd& score, double beta);
+
+// The β ≥ 0 with softmax_entropy(score, β) = target, by bisection (H is non-increasing in β ≥ 0:
+// dH/dβ = −β·Var_q(score)). Returns 0 when score has one entry, when all entries are equal, or
+// when target ≥ ln n. Otherwise the bracket [0, β_cap] is halved until its width is at most
+// kBetaRelTolerance times its upper end, which is returned: H(β) ≤ target and
+// |β − β_exact| ≤ kBetaRelTolerance·β. β_cap = min(kBetaCapLogit/Δ, kBetaMax), Δ the gap between
+// the largest score and the next lower one: from β_cap on every design below the top has a
+// weight exp(−β·Δ) that underflows to 0, so q is uniform over the tied maxima and no larger β
+// changes it. If even β_cap leaves H above target (the floor ln(number of tied maxima)), β_cap is
+// returned; H(q) > target then says so in the logs.
+inline constexpr double kBetaRelTolerance = 1e-12;
+inline constexpr double kBetaCapLogit = 746.0;  // exp(−746) == 0 in doubles (below ~−745.13)
+inline constexpr double kBetaMax = 1e300;       // keeps β·R̂ finite when Δ is denormal-small
+double entropy_matching_beta(const Eigen::VectorXd& score, double target);
+
 class DesignDistribution {
  public:
   // chambers[j] = number of chambers (1 or 2) of design j; its size is the number of designs.
-  // Throws std::invalid_argument on a bad config or an empty / out-of-range chambers list.
+  // Throws std::invalid_argument on a bad config, an empty / out-of-range chambers list, or,
+  // with the entropy schedule, entropy_end above ln(number of designs).
   DesignDistribution(const DistributionConfig& config, std::vector<int> chambers);
   // Restore from a checkpointed state. Throws std::invalid_argument if the state does not fit
   // (sizes, a buffer longer than reward_buffer, a non-finite number, Σ not symmetric positive
@@ -73,9 +100,16 @@ class DesignDistribution {
                      DistributionState state);
 
   Phase phase(std::int64_t t) const;
+  // β(t): 0 before T1 under either schedule. Ramp: beta_start → beta_end over [T1, T2), beta_end
+  // from T2 on. Entropy: entropy_matching_beta(R̂, target_entropy(t)), recomputed from the current
+  // R̂ at every call (stateless: nothing to checkpoint; a restored distribution gives the same β).
   double beta(std::int64_t t) const;
+  // The entropy schedule's target H*(t) in nats: ln n before T1, ln n + (t − T1)/(T2 − T1)·
+  // (entropy_end − ln n) in the transition, entropy_end from T2 on. nullopt under the ramp.
+  std::optional<double> target_entropy(std::int64_t t) const;
   // q_disc = softmax(β(t) R̂) (Eq. 5; the max is subtracted before exp). In Exploitation this is
-  // still Eq. 5 at β = beta_end; sample() ignores it there and returns d*.
+  // still Eq. 5 at β(t) (beta_end, or the β of entropy_end); sample() ignores it there and
+  // returns d*.
   Eigen::VectorXd probabilities(std::int64_t t) const;
   double entropy(std::int64_t t) const;  // of probabilities(t), in nats
 

@@ -41,6 +41,8 @@ DistributionConfig distribution_config(const CodesignConfig& c, const TaskConfig
   d.phi = c.phi;
   d.beta_start = c.beta_start;
   d.beta_end = c.beta_end;
+  d.beta_schedule = c.beta_schedule;
+  d.entropy_end = c.entropy_end;
   d.reward_buffer = c.reward_buffer;
   d.pressure_max_kPa = task.pressure_max_kPa;
   d.latent_mu0 = c.latent_mu0;

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <optional>
@@ -59,7 +60,17 @@ struct Logs {
     }
     return c;
   }
-  Logs(const fs::path& dir, const std::map<std::string, std::uint64_t>* resume) {
+  // distribution.csv of the entropy schedule has a target_entropy column after entropy; under the
+  // ramp (no target) its columns are those of runs from before the schedule existed.
+  static std::vector<std::string> distribution_columns(bool target_entropy) {
+    std::vector<std::string> c{"k", "t", "phase", "beta", "entropy"};
+    if (target_entropy) c.push_back("target_entropy");
+    for (const char* name : {"top1_j", "top1_q", "top2_j", "top2_q", "top3_j", "top3_q", "best_j", "best_score",
+                             "best_mu1_kPa", "best_mu2_kPa", "best_sigma1_kPa", "best_sigma2_kPa"})
+      c.emplace_back(name);
+    return c;
+  }
+  Logs(const fs::path& dir, const std::map<std::string, std::uint64_t>* resume, bool target_entropy) {
     const std::vector<std::pair<std::string, std::vector<std::string>>> logs{
         {"episodes.csv",
          {"t", "k", "j", "n", "l_mm", "w_mm", "p1_kPa", "p2_kPa", "phase_rad", "return", "decisions", "in_band",
@@ -68,9 +79,7 @@ struct Logs {
          {"k", "t", "pg_loss", "value_loss", "entropy_loss", "loss", "approx_kl", "clip_fraction",
           "explained_variance", "lr", "ent_coef", "epochs", "early_stopped", "grad_norm", "collect_s", "update_s",
           "policy_s", "steps_per_s"}},
-        {"distribution.csv",
-         {"k", "t", "phase", "beta", "entropy", "top1_j", "top1_q", "top2_j", "top2_q", "top3_j", "top3_q", "best_j",
-          "best_score", "best_mu1_kPa", "best_mu2_kPa", "best_sigma1_kPa", "best_sigma2_kPa"}},
+        {"distribution.csv", distribution_columns(target_entropy)},
         {"q_disc.csv", q_columns()},
         {"sampled.csv",
          {"k", "t", "i", "j", "p1_kPa", "p2_kPa", "return", "mu1_kPa", "mu2_kPa", "sigma1_kPa", "sigma2_kPa"}}};
@@ -110,6 +119,7 @@ struct Logs {
 struct DistributionSummary {
   Phase phase = Phase::Exploration;
   double entropy = 0.0;
+  std::optional<double> target_entropy;  // the entropy schedule's H*(t); none under the ramp
   Eigen::VectorXd q;          // q_disc over the 110 designs
   std::array<int, 3> top{};   // the three most probable designs, most probable first
   int best = 0;               // leading design and its score, mean and sigma of p in kPa
@@ -121,6 +131,7 @@ DistributionSummary summarize(const DesignDistribution& dist, std::int64_t t) {
   DistributionSummary s;
   s.phase = dist.phase(t);
   s.entropy = dist.entropy(t);
+  s.target_entropy = dist.target_entropy(t);
   s.q = dist.probabilities(t);
   std::vector<int> order(static_cast<std::size_t>(s.q.size()));
   std::iota(order.begin(), order.end(), 0);
@@ -147,10 +158,12 @@ void log_iteration(Logs& logs, const IterationReport& rep, const DesignDistribut
                  num(p.ent_coef), num(p.epochs_done), num(p.early_stopped ? 1 : 0), num(p.grad_norm),
                  num(rep.collect_s), num(rep.update_s), num(rep.policy_s), num(steps_per_s)});
   const Eigen::VectorXd& q = sum.q;
-  logs.distribution->row({num(rep.k), num(rep.t), to_string(sum.phase), num(rep.beta), num(sum.entropy),
-                          num(sum.top[0]), num(q[sum.top[0]]), num(sum.top[1]), num(q[sum.top[1]]),
-                          num(sum.top[2]), num(q[sum.top[2]]), num(sum.best), num(sum.best_score),
-                          num(sum.mu[0]), num(sum.mu[1]), num(sum.sigma[0]), num(sum.sigma[1])});
+  std::vector<std::string> dist_row{num(rep.k), num(rep.t), to_string(sum.phase), num(rep.beta), num(sum.entropy)};
+  if (sum.target_entropy) dist_row.push_back(num(*sum.target_entropy));
+  dist_row.insert(dist_row.end(), {num(sum.top[0]), num(q[sum.top[0]]), num(sum.top[1]), num(q[sum.top[1]]),
+                                   num(sum.top[2]), num(q[sum.top[2]]), num(sum.best), num(sum.best_score),
+                                   num(sum.mu[0]), num(sum.mu[1]), num(sum.sigma[0]), num(sum.sigma[1])});
+  logs.distribution->row(dist_row);
   std::vector<std::string> row{num(rep.k), num(rep.t)};
   for (Eigen::Index j = 0; j < q.size(); ++j) row.push_back(num(q[j]));
   logs.q->row(row);
@@ -236,6 +249,7 @@ void publish_iteration(io::Telemetry& tel, const IterationReport& rep, const Dis
   q.phase = to_string(sum.phase);
   q.beta = rep.beta;
   q.entropy = sum.entropy;
+  q.target_entropy = sum.target_entropy.value_or(std::numeric_limits<double>::quiet_NaN());
   for (Eigen::Index j = 0; j < sum.q.size() && j < 110; ++j) q.probabilities[j] = sum.q[j];
   q.best_design = sum.best;
   q.best_score = sum.best_score;
@@ -400,7 +414,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     }
     wall_before = ckpt->wall_s;
   }
-  Logs logs(dir, ckpt ? &ckpt->logs : nullptr);
+  Logs logs(dir, ckpt ? &ckpt->logs : nullptr, lc.codesign.beta_schedule == BetaSchedule::Entropy);
   // Training episodes ended by a numerical failure so far (episodes.csv holds those before a resume).
   std::int64_t numerical = count_numerical_failures((dir / "episodes.csv").string());
   const std::unique_ptr<io::Telemetry> telemetry = io::make_telemetry(options.telemetry_url);

@@ -1,6 +1,8 @@
 // [task] and [codesign] tables: cross-key constraints and baseline switches.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "codesign/config_reader.hpp"
 
 namespace codesign::coopt {
@@ -78,6 +80,38 @@ TEST(ConfigReader, NoThetaLimitOfItsOwn) {
 TEST(ConfigReader, SingleDesignIndexRange) {
   EXPECT_EQ(error_of("[codesign]\nsingle_design_index = 110\n", false),
             "run.toml: codesign.single_design_index: value 110 is out of range; allowed [0, 109]");
+}
+
+TEST(ConfigReader, BetaScheduleAndEntropyEnd) {
+  io::TableReader d = io::TableReader::from_string("", "run.toml");
+  const CodesignConfig def = read_codesign_config(d, TaskConfig{});
+  EXPECT_EQ(def.beta_schedule, BetaSchedule::Ramp);
+  EXPECT_EQ(def.entropy_end, std::log(3.0));
+  io::TableReader r = io::TableReader::from_string(
+      "[codesign]\nbeta_schedule = \"entropy\"\nentropy_end = 0.25\n", "run.toml");
+  const CodesignConfig c = read_codesign_config(r, TaskConfig{});
+  EXPECT_EQ(c.beta_schedule, BetaSchedule::Entropy);
+  EXPECT_EQ(c.entropy_end, 0.25);
+  // The whole range: 0 (a point mass at T2) to ln 110 (uniform: no concentration at all).
+  io::TableReader ends = io::TableReader::from_string("[codesign]\nentropy_end = 0.0\n", "run.toml");
+  EXPECT_EQ(read_codesign_config(ends, TaskConfig{}).entropy_end, 0.0);
+  EXPECT_EQ(error_of("[codesign]\nentropy_end = 4.7004\n", false), "");
+}
+
+TEST(ConfigReader, BadBetaScheduleAndEntropyEndNameFileKeyAndRange) {
+  const std::string s = error_of("[codesign]\nbeta_schedule = \"cosine\"\n", false);
+  EXPECT_EQ(s.rfind("run.toml: codesign.beta_schedule: ", 0), 0u) << s;
+  EXPECT_NE(s.find("\"ramp\""), std::string::npos) << s;
+  EXPECT_NE(s.find("\"entropy\""), std::string::npos) << s;
+  EXPECT_EQ(error_of("[codesign]\nbeta_schedule = 1\n", false).rfind("run.toml: codesign.beta_schedule: ", 0), 0u);
+  EXPECT_EQ(error_of("[codesign]\nentropy_end = 4.71\n", false),
+            "run.toml: codesign.entropy_end: value 4.71 is out of range; allowed [0, 4.70048]");
+  EXPECT_EQ(error_of("[codesign]\nentropy_end = -0.1\n", false),
+            "run.toml: codesign.entropy_end: value -0.1 is out of range; allowed [0, 4.70048]");
+  EXPECT_EQ(error_of("[codesign]\nentropy_end = nan\n", false),
+            "run.toml: codesign.entropy_end: value nan is out of range; allowed [0, 4.70048]");
+  const std::string t = error_of("[codesign]\nentropy_end = \"ln 3\"\n", false);
+  EXPECT_EQ(t.rfind("run.toml: codesign.entropy_end: expected a number in [0, 4.70048]", 0), 0u) << t;
 }
 
 std::string pid_sweep_error(const std::string& text) {

@@ -2,6 +2,7 @@
 // uses, gives the same values; resolving what was read back gives the same text.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -69,6 +70,8 @@ void expect_same(const CodesignConfig& a, const CodesignConfig& b) {
   EXPECT_EQ(a.phi, b.phi);
   EXPECT_EQ(a.beta_start, b.beta_start);
   EXPECT_EQ(a.beta_end, b.beta_end);
+  EXPECT_EQ(a.beta_schedule, b.beta_schedule);
+  EXPECT_EQ(a.entropy_end, b.entropy_end);
   EXPECT_EQ(a.reward_buffer, b.reward_buffer);
   EXPECT_EQ(a.latent_mu0, b.latent_mu0);
   EXPECT_EQ(a.latent_sigma0, b.latent_sigma0);
@@ -160,6 +163,8 @@ alpha = 0.2
 phi = 0.07
 beta_start = 0.1
 beta_end = 0.9
+beta_schedule = "entropy"
+entropy_end = 0.75
 reward_buffer = 50
 latent_mu0 = 0.3
 latent_sigma0 = 0.8
@@ -198,6 +203,9 @@ TEST(ResolvedConfig, DefaultsRoundTrip) {
   EXPECT_NE(r.find("\nobservation = \"paper\"\n"), std::string::npos) << r;
   EXPECT_NE(r.find("\nbaseline = \"none\"\n"), std::string::npos) << r;
   EXPECT_EQ(r.find("\"auto\""), std::string::npos) << r;
+  // Keys written only when not their default (so that older runs' config.toml stays as it was).
+  EXPECT_EQ(r.find("beta_schedule"), std::string::npos) << r;
+  EXPECT_EQ(r.find("entropy_end"), std::string::npos) << r;
   // The value types' defaults.
   const RunTables d = read_run("");
   expect_same(d.loop.task, TaskConfig{});
@@ -209,10 +217,13 @@ TEST(ResolvedConfig, NonDefaultRoundTrip) {
   EXPECT_EQ(a.loop.task.observation, ObservationSet::Proprioceptive);
   EXPECT_EQ(a.loop.codesign.baseline, Baseline::SingleDesign);
   EXPECT_EQ(a.loop.codesign.seed, std::uint64_t{1} << 62);
+  EXPECT_EQ(a.loop.codesign.beta_schedule, BetaSchedule::Entropy);
+  EXPECT_EQ(a.loop.codesign.entropy_end, 0.75);
   const std::string r = check_round_trip(kNonDefault);
   EXPECT_NE(r.find("\nplate_phase_deg = -12.5\n"), std::string::npos) << r;  // [scene]
   EXPECT_NE(r.find("\nplate_phase_deg = 45.0\n"), std::string::npos) << r;   // [codesign]
   EXPECT_NE(r.find("\nseed = 4611686018427387904\n"), std::string::npos) << r;
+  EXPECT_NE(r.find("\nbeta_end = 0.9\nbeta_schedule = \"entropy\"\nentropy_end = 0.75\n"), std::string::npos) << r;
   EXPECT_NE(r.find("\nlr_decay_start = 1500\nlr_decay_end = 2500\nlearning_rate_final = 3e-05\n"), std::string::npos) << r;
 }
 
@@ -259,6 +270,20 @@ TEST(ResolvedConfig, PaperVariantsDifferOnlyWhereTheySay) {
   sd.loop.codesign.single_design_p1_kPa = paper.loop.codesign.single_design_p1_kPa;
   sd.loop.codesign.single_design_p2_kPa = paper.loop.codesign.single_design_p2_kPa;
   EXPECT_EQ(resolved(sd), resolved(paper));
+}
+
+// configs/quick_entropy.toml is quick.toml with the entropy schedule and nothing else.
+TEST(ResolvedConfig, QuickEntropyDiffersFromQuickOnlyInTheSchedule) {
+  const std::string dir = std::string(CODESIGN_SOURCE_DIR) + "/configs/";
+  const RunTables quick = read_run(slurp(dir + "quick.toml"));
+  const std::string merged = io::TableReader::input_text(dir + "quick_entropy.toml");
+  check_round_trip(merged);
+  RunTables e = read_run(merged);
+  EXPECT_EQ(e.loop.codesign.beta_schedule, BetaSchedule::Entropy);
+  EXPECT_EQ(e.loop.codesign.entropy_end, std::log(3.0));
+  EXPECT_EQ(resolved(e).find("entropy_end"), std::string::npos);  // the default: not written
+  e.loop.codesign.beta_schedule = quick.loop.codesign.beta_schedule;
+  EXPECT_EQ(resolved(e), resolved(quick));
 }
 
 }  // namespace codesign::coopt

@@ -2,6 +2,7 @@
 // checkpoints or folders that stop with a clear error and lose nothing.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <algorithm>
@@ -88,6 +89,10 @@ TEST(Run, WritesTheRunFolder) {
   EXPECT_DOUBLE_EQ(std::stod(table("best_fixed_theta", "test_return")), ft.test.mean_return);
   // (degrees in the file: the conversion back may differ in the last bits)
   EXPECT_NEAR(std::stod(table("best_fixed_theta", "theta0_deg")) * std::numbers::pi / 180.0, ft.theta0_rad, 1e-12);
+  // The ramp's distribution.csv has the columns it had before the entropy schedule existed.
+  EXPECT_EQ(slurp(d / "distribution.csv").substr(0, slurp(d / "distribution.csv").find('\n')),
+            "k,t,phase,beta,entropy,top1_j,top1_q,top2_j,top2_q,top3_j,top3_q,best_j,best_score,best_mu1_kPa,"
+            "best_mu2_kPa,best_sigma1_kPa,best_sigma2_kPa");
   // ppo.csv: header + 6 updates.
   std::istringstream ppo(slurp(d / "ppo.csv"));
   int lines = 0;
@@ -134,6 +139,51 @@ TEST(Run, ResumedRunWithHistoryAndObservationNormalisationEndsIdentically) {
   // The statistics saw real observations: the design components vary across designs.
   EXPECT_GT(policy.obs_norm()->var[0], 0.0);
   EXPECT_LT(policy.obs_norm()->var[0], 1.0);
+}
+
+// The entropy schedule: distribution.csv gains a target_entropy column, which follows the line
+// from ln 110 at T1 = 40 to entropy_end at T2 = 80; the entropy meets it from below, or stays at
+// the floor ln(number of designs tied at the top); a resumed run writes the same file.
+TEST(Run, EntropyScheduleLogsItsTargetAndResumesIdentically) {
+  RunSettings s = test::tiny_run();
+  s.loop.codesign.beta_schedule = BetaSchedule::Entropy;
+  s.loop.codesign.entropy_end = 2.0;
+  s.config_text += "# entropy schedule\n";
+  const fs::path a = fresh_dir("entropy_whole"), b = fresh_dir("entropy_resumed");
+  ASSERT_TRUE(run_codesign(s, opts(a)).completed);
+  RunOptions o = opts(b);
+  o.stop_after = 60;
+  ASSERT_FALSE(run_codesign(s, o).completed);
+  o.stop_after = -1;
+  o.resume = true;
+  ASSERT_TRUE(run_codesign(s, o).completed);
+  EXPECT_EQ(slurp(a / "distribution.csv"), slurp(b / "distribution.csv"));
+  EXPECT_EQ(slurp(a / "policy.bin"), slurp(b / "policy.bin"));
+  EXPECT_NE(slurp(a / "config.toml").find("\nbeta_schedule = \"entropy\"\nentropy_end = 2.0\n"), std::string::npos);
+
+  const io::CsvTable d = io::read_csv((a / "distribution.csv").string());
+  ASSERT_EQ(d.rows(), 6u);
+  EXPECT_EQ(d.column("target_entropy"), d.column("entropy") + 1);
+  const double ln110 = std::log(110.0);
+  const std::map<std::int64_t, double> target{{20, ln110}, {40, ln110}, {60, ln110 + 0.5 * (2.0 - ln110)},
+                                              {80, 2.0}, {100, 2.0}, {120, 2.0}};
+  for (std::size_t r = 0; r < d.rows(); ++r) {
+    const std::int64_t t = d.integer(r, d.column("t"));
+    SCOPED_TRACE(t);
+    const double h = d.number(r, d.column("entropy")), beta = d.number(r, d.column("beta"));
+    EXPECT_EQ(d.number(r, d.column("target_entropy")), target.at(t));
+    if (t < 60) {
+      EXPECT_EQ(beta, 0.0);  // exploration, and T1 itself (target ln 110)
+    } else if (h <= target.at(t)) {
+      EXPECT_GE(h, target.at(t) - 1e-9);
+    } else {
+      // Above the target only at the floor: q uniform over m designs tied at the top, H = ln m.
+      // (Here the returns are negative: the designs never sampled keep R̂ = 0 and tie at the top.)
+      EXPECT_GT(beta, 0.0);
+      EXPECT_NEAR(h, std::log(std::round(std::exp(h))), 1e-12);
+      EXPECT_NEAR(d.number(r, d.column("top1_q")), 1.0 / std::round(std::exp(h)), 1e-15);
+    }
+  }
 }
 
 TEST(Run, RefusesToOverwriteAnEarlierRun) {

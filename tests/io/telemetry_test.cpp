@@ -88,6 +88,7 @@ codesign_lcm::distribution_t distribution(int k) {
   m.phase = k == 0 ? "explore" : "exploit";
   m.beta = 2.5;
   m.entropy = 4.0;
+  m.target_entropy = 3.75;
   for (int j = 0; j < 110; ++j) m.probabilities[j] = (j + 1 + k) / 6105.0;
   m.best_design = 42;
   m.best_score = 91.5;
@@ -156,6 +157,7 @@ void expect_equal(const codesign_lcm::distribution_t& a, const codesign_lcm::dis
   EXPECT_EQ(a.phase, b.phase);
   EXPECT_EQ(a.beta, b.beta);
   EXPECT_EQ(a.entropy, b.entropy);
+  EXPECT_EQ(a.target_entropy, b.target_entropy);
   for (int j = 0; j < 110; ++j) EXPECT_EQ(a.probabilities[j], b.probabilities[j]) << j;
   EXPECT_EQ(a.best_design, b.best_design);
   EXPECT_EQ(a.best_score, b.best_score);
