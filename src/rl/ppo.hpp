@@ -147,6 +147,7 @@ PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& bu
 template <class S>
 struct PpoMinibatchT {
   using Mat = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+  using Vec = Eigen::Matrix<S, Eigen::Dynamic, 1>;
   using RowVec = Eigen::Matrix<S, 1, Eigen::Dynamic>;
   Mat obs;              // obs_dim x B
   Mat actions;          // act_dim x B (unclipped, as stored)
@@ -178,17 +179,45 @@ struct PpoLossT {
   double grad_squared_norm = 0;  // squared global L2 norm of the gradient (if one was asked for)
 };
 
+// Gradient of the loss w.r.t. what the networks put out: the action means (act_dim x B), the
+// values (1 x B) and log_std (act_dim).
+template <class S>
+struct PpoOutputGradT {
+  typename PpoMinibatchT<S>::Mat d_mean, d_value;
+  typename PpoMinibatchT<S>::Vec d_log_std;
+};
+
 // Scratch reused across minibatches (no allocation in steady state).
 template <class S>
 struct PpoWorkspaceT {
   typename MlpT<S>::Cache actor_cache, critic_cache;
-  typename MlpT<S>::Mat d_mean, d_value;
+  PpoOutputGradT<S> outputs;
   // Set by ppo_update between a deferred optimiser step and the next loss evaluation: they apply
   // the step to parameter ranges just before the forward passes read them (MlpT::forward's
   // before_use). Empty: nothing pending.
   typename MlpT<S>::ParamHook actor_pending, critic_pending;
   std::function<void()> log_std_pending;
 };
+
+// The clipped PPO loss of a minibatch from the policy's outputs on it: action means
+// (act_dim x B), values (a 1 x B matrix) and log_std; batch.obs is not read. Every policy kind shares it
+// (the feed-forward one below, the recurrent one in recurrent_ppo.hpp). If grad is non-null it
+// receives the loss's gradient w.r.t. those outputs.
+template <class S>
+PpoLossT<S> ppo_loss_from_outputs(const Eigen::Ref<const typename PpoMinibatchT<S>::Mat>& mean_action,
+                                  const Eigen::Ref<const typename PpoMinibatchT<S>::Mat>& values,
+                                  const Eigen::Ref<const typename PpoMinibatchT<S>::Vec>& log_std,
+                                  const PpoMinibatchT<S>& batch, const PpoLossCoefficients& coefs,
+                                  PpoOutputGradT<S>* grad);
+
+extern template PpoLossT<float> ppo_loss_from_outputs<float>(
+    const Eigen::Ref<const PpoMinibatchT<float>::Mat>&, const Eigen::Ref<const PpoMinibatchT<float>::Mat>&,
+    const Eigen::Ref<const PpoMinibatchT<float>::Vec>&, const PpoMinibatchT<float>&, const PpoLossCoefficients&,
+    PpoOutputGradT<float>*);
+extern template PpoLossT<double> ppo_loss_from_outputs<double>(
+    const Eigen::Ref<const PpoMinibatchT<double>::Mat>&, const Eigen::Ref<const PpoMinibatchT<double>::Mat>&,
+    const Eigen::Ref<const PpoMinibatchT<double>::Vec>&, const PpoMinibatchT<double>&, const PpoLossCoefficients&,
+    PpoOutputGradT<double>*);
 
 // Loss of one minibatch and, if grad is non-null, its gradient w.r.t. all parameters (overwrites
 // *grad, which must have the sizes of model.zero_grad()).
