@@ -209,8 +209,6 @@ template PpoLossT<double> ppo_minibatch_loss<double>(const ActorCriticT<double>&
                                                      ActorCriticGradT<double>*,
                                                      PpoWorkspaceT<double>&);
 
-namespace {
-
 double explained_variance(const Eigen::RowVectorXf& y_pred, const Eigen::RowVectorXf& y_true) {
   const Eigen::RowVectorXd t = y_true.cast<double>();
   const Eigen::RowVectorXd d = t - y_pred.cast<double>();
@@ -218,8 +216,6 @@ double explained_variance(const Eigen::RowVectorXf& y_pred, const Eigen::RowVect
   if (var_y == 0) return std::numeric_limits<double>::quiet_NaN();
   return 1.0 - (d.array() - d.mean()).square().mean() / var_y;
 }
-
-}  // namespace
 
 PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& buffer,
                     const PpoConfig& config, std::int64_t num_timesteps, Rng& rng,

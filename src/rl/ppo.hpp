@@ -128,6 +128,9 @@ struct PpoStats {
   bool early_stopped = false;
 };
 
+// 1 - Var(y_true - y_pred) / Var(y_true) (population variances, in double); NaN if Var(y_true) = 0.
+double explained_variance(const Eigen::RowVectorXf& y_pred, const Eigen::RowVectorXf& y_true);
+
 // The optimiser PPO expects: Adam with eps = config.adam_eps (betas 0.9, 0.999).
 inline Adam make_adam(const PpoConfig& config) {
   return Adam(AdamConfig{.beta1 = 0.9, .beta2 = 0.999, .eps = config.adam_eps});
