@@ -17,6 +17,8 @@ namespace {
 const LoopConfig& checked(const LoopConfig& c, const EnvPool* envs) {
   rl::validate(c.ppo);
   if (!envs) throw std::invalid_argument("OuterLoop: no environments");
+  if (c.ppo.policy != rl::PolicyKind::Mlp)
+    throw std::invalid_argument("OuterLoop: ppo.policy = \"gru\" is not wired into the co-design yet");
   const int decisions = c.task.episode_steps / c.task.action_hold_steps;
   if (c.ppo.n_steps != decisions)
     throw std::invalid_argument("OuterLoop: ppo.n_steps (" + std::to_string(c.ppo.n_steps) +

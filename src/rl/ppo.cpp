@@ -90,6 +90,7 @@ void validate(const PpoConfig& c) {
   check("vf_coef", c.vf_coef, ppo_range::vf_coef);
   check("max_grad_norm", c.max_grad_norm, ppo_range::max_grad_norm);
   if (c.target_kl) check("target_kl", *c.target_kl, ppo_range::target_kl);
+  check("gru_hidden", std::int64_t{c.gru_hidden}, ppo_range::gru_hidden);
   check("log_std_init", c.log_std_init, ppo_range::log_std_init);
   check("adam_eps", c.adam_eps, ppo_range::adam_eps);
   if (c.matmul_precision == MatmulPrecision::BFloat16 && !bf16_gemm_available())

@@ -30,6 +30,10 @@
 
 namespace codesign::rl {
 
+// The policy network: the feed-forward actor-critic (actor_critic.hpp), or a GRU before each of
+// its MLPs (recurrent_actor_critic.hpp, updated by recurrent_ppo.hpp).
+enum class PolicyKind { Mlp, Gru };
+
 // Defaults are SB3's PPO defaults (MlpPolicy net_arch [64, 64]).
 struct PpoConfig {
   double learning_rate = 3e-4;
@@ -63,6 +67,9 @@ struct PpoConfig {
   // whisker: force error, base angle, plate phase, time in the episode; whisker_env.hpp), the
   // actor never does. Only tasks that supply such features accept it.
   bool privileged_critic = false;
+  // Mlp (the default) or Gru: obs -> GRU(gru_hidden) -> the MLPs below, in actor and critic.
+  PolicyKind policy = PolicyKind::Mlp;
+  int gru_hidden = 64;  // used by PolicyKind::Gru only
   std::vector<int> actor_hidden = {64, 64};
   std::vector<int> critic_hidden = {64, 64};
   double log_std_init = 0.0;
@@ -92,6 +99,7 @@ inline constexpr Range<double> max_grad_norm{1e-9, 1e9};
 inline constexpr Range<double> target_kl{1e-9, 100.0};
 inline constexpr Range<std::int64_t> hidden_size{1, 8192};
 inline constexpr Range<std::int64_t> hidden_layers{1, 16};
+inline constexpr Range<std::int64_t> gru_hidden{1, 4096};
 inline constexpr Range<double> log_std_init{-20.0, 5.0};
 inline constexpr Range<double> adam_eps{1e-20, 1.0};
 }  // namespace ppo_range
