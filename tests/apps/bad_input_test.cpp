@@ -273,7 +273,7 @@ std::vector<Case> cases() {
       policy("truncated", cut(0.5), {"policy file", "truncated.bin", "checksum mismatch (file is corrupt or truncated)"}),
       policy("checksum", flip(40), {"policy file", "checksum.bin", "checksum mismatch"}),
       policy("magic", flip(0), {"magic.bin: not a file codesign reads", "allowed: a gmsh .msh 4.1 mesh, a policy file"}),
-      policy("version", [](std::string b) { b[8] = 3; return with_checksum(b); }, {"policy file", "version.bin", "unsupported version 3 (this build reads versions 1 to 2)"}),
+      policy("version", [](std::string b) { b[8] = 4; return with_checksum(b); }, {"policy file", "version.bin", "unsupported version 4 (this build reads versions 1 to 3)"}),
       policy("trailing_bytes", [](std::string b) { return with_checksum(b.insert(b.size() - 8, "xxxx")); }, {"policy file", "trailing_bytes.bin", "4 unexpected bytes after the last field"}),
       policy("network_sizes", [](std::string b) { return b; }, {"policy file", "network_sizes.bin", "actor hidden sizes [4] differ from", "ppo.actor_hidden = [8]"},
              replaced(tiny, "actor_hidden = [4]", "actor_hidden = [8]")),
