@@ -284,7 +284,7 @@ std::vector<Case> cases() {
       checkpoint("checksum", ckpt_edit(flip(100)), {"checkpoint", "checkpoint.bin", "checksum mismatch"}),
       checkpoint("empty", ckpt_edit([](std::string) { return std::string(); }), {"checkpoint", "checkpoint.bin", "too short (0 bytes)"}),
       checkpoint("magic", ckpt_edit(flip(1)), {"checkpoint", "checkpoint.bin", "bad magic (not a codesign checkpoint)"}),
-      checkpoint("version", ckpt_edit([](std::string b) { b[8] = 9; return with_checksum(b); }), {"checkpoint", "checkpoint.bin", "unsupported version 9 (this build reads versions 1 to 2)"}),
+      checkpoint("version", ckpt_edit([](std::string b) { b[8] = 9; return with_checksum(b); }), {"checkpoint", "checkpoint.bin", "unsupported version 9 (this build reads versions 1 to 3)"}),
       checkpoint("other_config", [](const fs::path&) {}, {"checkpoint", "checkpoint.bin", "written by a run with another config", "config.toml"},
                  replaced(kTinyRun, "seed = 3", "seed = 4")),
       checkpoint("network_sizes",
