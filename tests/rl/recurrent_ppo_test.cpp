@@ -238,5 +238,61 @@ TEST(RecurrentPpoLearning, RemembersACueShownThreeStepsEarlier) {
   EXPECT_GT(j, -1.0 / 3) << "initial " << j0;  // reaches about -1e-4
 }
 
+// A full buffer of 4 steps x 5 envs from the recurrent model itself, old log-probs shifted by
+// `log_prob_shift`.
+RolloutBuffer recurrent_buffer(const RecurrentActorCritic& model, float log_prob_shift, Rng& rng) {
+  RolloutBuffer buf(4, 5, 2, 1);
+  RecurrentState state = model.zero_state(5);
+  for (int t = 0; t < 4; ++t) {
+    Eigen::MatrixXf obs(2, 5);
+    for (Eigen::Index i = 0; i < obs.size(); ++i) obs(i) = static_cast<float>(rng.normal());
+    const Eigen::RowVectorXf starts = Eigen::RowVectorXf::Constant(5, t == 0 ? 1.f : 0.f);
+    const auto a = model.act(obs, starts, state, rng);
+    Eigen::RowVectorXf r(5);
+    for (int e = 0; e < 5; ++e) r(e) = static_cast<float>(rng.normal());
+    buf.add(obs, a.actions, r, starts, a.values, (a.log_probs.array() + log_prob_shift).matrix());
+  }
+  buf.compute_returns_and_advantage(Eigen::RowVectorXf::Zero(5), Eigen::RowVectorXf::Ones(5), 0.99, 0.95);
+  return buf;
+}
+
+// As ppo_update: the minibatch whose approx_kl exceeds 1.5 target_kl is not applied and no later
+// one runs; without target_kl every epoch runs every minibatch, the last one partial.
+TEST(RecurrentPpoUpdate, KlEarlyStopAndMinibatchesOfWholeSequences) {
+  Rng rng(3);
+  RecurrentActorCritic model(2, 1, 4, {8}, {8});
+  model.init(rng);
+  PpoConfig cfg;
+  cfg.n_steps = 4;
+  cfg.batch_size = 8;  // 2 sequences per minibatch: (2, 2, 1) over 5 envs
+  cfg.n_epochs = 3;
+  ASSERT_EQ(sequences_per_minibatch(cfg, 5), 2);
+  cfg.target_kl = 0.02;
+  // Old log-probs 2 nats below: ratio e^2, approx_kl = e^2 - 3 = 4.39 > 0.03.
+  const RolloutBuffer shifted = recurrent_buffer(model, -2.0f, rng);
+  Adam adam = make_adam(cfg);
+  const RecurrentActorCritic before = model;
+  const RecurrentState zero = model.zero_state(5);
+  PpoStats s = recurrent_ppo_update(model, adam, shifted, zero, cfg, 0, rng);
+  EXPECT_TRUE(s.early_stopped);
+  EXPECT_EQ(s.epochs_done, 1);
+  EXPECT_EQ(s.minibatches_applied, 0);
+  EXPECT_NEAR(s.approx_kl, std::exp(2.0) - 3.0, 1e-4);
+  EXPECT_EQ(model.actor_gru().params(), before.actor_gru().params());
+  EXPECT_EQ(model.critic().params(), before.critic().params());
+  EXPECT_EQ(adam.step_count(), 0);
+
+  cfg.target_kl.reset();
+  const RolloutBuffer fresh = recurrent_buffer(model, 0.0f, rng);
+  s = recurrent_ppo_update(model, adam, fresh, zero, cfg, 0, rng);
+  EXPECT_FALSE(s.early_stopped);
+  EXPECT_EQ(s.epochs_done, 3);
+  EXPECT_EQ(s.minibatches_applied, 9);
+  EXPECT_EQ(adam.step_count(), 9);
+  EXPECT_FALSE(model.actor_gru().params() == before.actor_gru().params());
+  // A wrong number of initial states is refused.
+  EXPECT_THROW(recurrent_ppo_update(model, adam, fresh, model.zero_state(4), cfg, 0, rng), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace codesign::rl
