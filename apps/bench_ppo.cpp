@@ -10,7 +10,8 @@
 // operands with float32 sums where the CPU has AVX-512 BF16, else float32; --precision
 // overrides). Baselines in the same run: the same iteration with float32 products (rl::sgemm)
 // and with Eigen's products only; on the dominant GEMM shape, Eigen, rl::sgemm, rl::gemm_bf16
-// and a textbook triple loop; and one minibatch pass in float64 (Eigen).
+// and a textbook triple loop; and one minibatch pass in float64 (Eigen). Beside it, the same
+// iteration with the recurrent policy (ppo.policy = "gru", --gru-hidden units).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -29,6 +30,7 @@
 #include "io/gym_config.hpp"
 #include "rl/gemm.hpp"
 #include "rl/ppo.hpp"
+#include "rl/recurrent_ppo.hpp"
 
 namespace codesign::app {
 
@@ -122,6 +124,7 @@ struct BenchOptions {
   int n_steps = 50;
   int hidden = 512;
   bool with_kl = true;
+  int gru_hidden = 64;  // the recurrent policy's iteration beside the MLP's; 0: skipped
   std::string precision = "auto";  // auto | float32 | bf16
 };
 
@@ -162,6 +165,39 @@ IterationTimes run_iteration(rl::ActorCritic& model, rl::Adam& adam, const rl::P
   t.gae = seconds_since(t0);
   t0 = Clock::now();
   t.stats = rl::ppo_update(model, adam, buffer, cfg, 0, rng);
+  t.update = seconds_since(t0);
+  t.cpu = thread_cpu_seconds() - cpu0;
+  return t;
+}
+
+// The same iteration with the recurrent policy (ppo.policy = "gru"): one GRU step per env and
+// decision in the rollout (episode starts at step 0), then recurrent_ppo_update over whole env
+// columns (batch_size / n_steps columns per minibatch).
+IterationTimes run_recurrent_iteration(rl::RecurrentActorCritic& model, rl::Adam& adam, const rl::PpoConfig& cfg,
+                                       int n_envs, rl::Rng& rng) {
+  IterationTimes t;
+  rl::RolloutBuffer buffer(cfg.n_steps, n_envs, model.obs_dim(), model.act_dim());
+  Eigen::MatrixXf obs(model.obs_dim(), n_envs);
+  Eigen::RowVectorXf starts = Eigen::RowVectorXf::Ones(n_envs);
+  rl::RecurrentState state = model.zero_state(n_envs);
+  const rl::RecurrentState initial = state;
+  const double cpu0 = thread_cpu_seconds();
+  auto t0 = Clock::now();
+  for (int s = 0; s < cfg.n_steps; ++s) {
+    for (Eigen::Index i = 0; i < obs.size(); ++i) obs(i) = static_cast<float>(rng.normal());
+    const auto out = model.act(obs, starts, state, rng);
+    Eigen::RowVectorXf rewards(n_envs);
+    for (int e = 0; e < n_envs; ++e) rewards(e) = static_cast<float>(rng.normal());
+    buffer.add(obs, out.actions, rewards, starts, out.values, out.log_probs);
+    starts.setZero();
+  }
+  const Eigen::RowVectorXf last_values = model.value_step(obs, state.critic);
+  t.rollout = seconds_since(t0);
+  t0 = Clock::now();
+  buffer.compute_returns_and_advantage(last_values, Eigen::RowVectorXf::Zero(n_envs), cfg.gamma, cfg.gae_lambda);
+  t.gae = seconds_since(t0);
+  t0 = Clock::now();
+  t.stats = rl::recurrent_ppo_update(model, adam, buffer, initial, cfg, 0, rng);
   t.update = seconds_since(t0);
   t.cpu = thread_cpu_seconds() - cpu0;
   return t;
@@ -295,6 +331,34 @@ int run_bench(const BenchOptions& o) {
     baseline(true, "float32 products (rl::sgemm)", "bf16 products are");
   baseline(false, "Eigen's float32 GEMM only", "the measured configuration is");
 
+  if (o.gru_hidden > 0) {
+    // The recurrent policy at the same sizes, target_kl off: the GRUs' products are small
+    // (gru_hidden x 6 and gru_hidden x gru_hidden per step), so they run in float32 with Eigen;
+    // the MLP heads use `precision` as above.
+    rl::Rng rng(2024);
+    rl::RecurrentActorCritic gru(6, 1, o.gru_hidden, cfg.actor_hidden, cfg.critic_hidden);
+    gru.init(rng);
+    gru.set_matmul_precision(precision);
+    rl::Adam adam = rl::make_adam(cfg);
+    run_recurrent_iteration(gru, adam, cfg, o.n_envs, rng);  // warm-up
+    std::vector<double> total, cpu, rollout, update;
+    for (int r = 0; r < base_reps; ++r) {
+      const IterationTimes t = run_recurrent_iteration(gru, adam, cfg, o.n_envs, rng);
+      total.push_back(t.total());
+      cpu.push_back(t.cpu);
+      rollout.push_back(t.rollout);
+      update.push_back(t.update);
+    }
+    std::printf("\n  recurrent policy (ppo.policy = \"gru\", GRU %d before each MLP; %d envs per minibatch), "
+                "target_kl off, median of %d:\n",
+                o.gru_hidden, rl::sequences_per_minibatch(cfg, o.n_envs), base_reps);
+    std::printf("    iteration      %.3f s wall, %.3f s CPU (rollout forwards %.3f s, update %.3f s)\n",
+                median(total), median(cpu), median(rollout), median(update));
+    std::printf("    vs the MLP     %.2fx its CPU time; parameters %lld (GRUs %lld)\n", median(cpu) / main_run.cpu,
+                static_cast<long long>(gru.num_params()),
+                static_cast<long long>(gru.actor_gru().num_params() + gru.critic_gru().num_params()));
+  }
+
   if (o.with_kl) {
     cfg.target_kl = 0.02;
     rl::Rng rng_kl(7);
@@ -391,6 +455,9 @@ void add_bench_ppo_command(CLI::App& bench, Runner& run) {
   cmd->add_option("--hidden", opts->hidden, "Width of each of the three hidden layers")
       ->check(CLI::Range(1, 8192));
   cmd->add_flag("!--no-kl-run", opts->with_kl, "Skip the extra run with target_kl 0.02");
+  cmd->add_option("--gru-hidden", opts->gru_hidden,
+                  "Units of the recurrent policy's GRUs in its iteration beside the MLP's (0: skip it)")
+      ->check(CLI::Range(0, 4096));
   cmd->add_option("--precision", opts->precision,
                   "Matrix products: auto (bf16 where available), float32 or bf16")
       ->check(CLI::IsMember({"auto", "float32", "bf16"}));

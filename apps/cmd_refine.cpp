@@ -11,6 +11,7 @@
 #include <string>
 
 #include "base/errors.hpp"
+#include "codesign/policy_controller.hpp"
 #include "codesign/refine.hpp"
 #include "codesign/run.hpp"
 #include "cli_options.hpp"
@@ -51,7 +52,8 @@ int run_refine(const RefineCliOptions& o) {
   const int design = static_cast<int>(best.integer("design", 0, 0, fem::kDesignCount - 1));
   const std::vector<double> p =
       best.numbers("pressures_kPa", {0.0, 0.0}, 0.0, setup.task.pressure_max_kPa, 2, 2);
-  const rl::Policy policy = rl::Policy::load(dir / "policy.bin");
+  const auto loaded = std::make_shared<const rl::Policy>(rl::Policy::load(dir / "policy.bin"));
+  const rl::Policy& policy = *loaded;
   const int obs_dim = coopt::observation_dim(setup.task);
   if (policy.obs_dim() != obs_dim || policy.act_dim() != 1)
     throw InputError((dir / "policy.bin").string() + ": policy has " + std::to_string(policy.obs_dim()) +
@@ -67,7 +69,7 @@ int run_refine(const RefineCliOptions& o) {
     throw InputError("--max-evals: " + std::to_string(o.max_evals) + " is below --starts (" +
                      std::to_string(o.starts) + "); allowed [starts, 10000]");
   auto sims = std::make_shared<coopt::SimulatorPool>(setup.spec, setup.scene, setup.solver);
-  const coopt::Controller pi = [&policy](const Eigen::VectorXd& obs) { return policy.act_deterministic(obs)(0); };
+  const coopt::ControllerFactory pi = coopt::policy_factory(loaded);  // one controller per episode
   std::printf("refine: %s: j%d, p* = [%g, %g] kPa; NLopt %s, %d starts, %d evaluations of %d tuning phases; "
               "test on the run's %d evaluation phases\n",
               dir.string().c_str(), design, p[0], p[1], o.method.c_str(), o.starts, o.max_evals, o.phases,

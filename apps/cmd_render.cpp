@@ -24,6 +24,7 @@
 #include "base/errors.hpp"
 #include "codesign/episode_render.hpp"
 #include "codesign/evaluation.hpp"
+#include "codesign/policy_controller.hpp"
 #include "codesign/run.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
@@ -91,8 +92,8 @@ int run_render(const RenderCliOptions& o) {
   const double phase = o.phase_deg ? *o.phase_deg * std::numbers::pi / 180.0 : coopt::evaluation_phase(0, eval_n);
   std::vector<std::vector<coopt::RecordedFrame>> seqs;
   if (!o.run.empty()) {
-    const coopt::Controller policy =
-        coopt::policy_controller(o.policy.empty() ? run_dir / "policy.bin" : fs::path(o.policy), task);
+    const std::shared_ptr<const rl::Policy> policy =
+        coopt::load_task_policy(o.policy.empty() ? run_dir / "policy.bin" : fs::path(o.policy), task);
     std::vector<std::string> whiches;
     if (o.which == "both")
       whiches = {"best", "runner_up"};
@@ -102,12 +103,12 @@ int run_render(const RenderCliOptions& o) {
       std::optional<coopt::EpisodeSetup> s = coopt::result_design(run_dir, w);
       if (!s) throw InputError((run_dir / "result.toml").string() + ": has no [" + w + "] design");
       s->plate_phase_rad = phase;
-      seqs.push_back(coopt::record_episode(sims, task, *s, policy, rc.every_steps,
+      seqs.push_back(coopt::record_episode(sims, task, *s, coopt::episode_controller(policy), rc.every_steps,
                                            (w == "best" ? "d*: " : "runner-up: ") +
                                                coopt::design_title(s->design, s->p1_kPa, s->p2_kPa)));
     }
   } else {
-    const coopt::Controller policy = o.policy.empty() ? coopt::Controller{} : coopt::policy_controller(o.policy, task);
+    const std::shared_ptr<const rl::Policy> policy = o.policy.empty() ? nullptr : coopt::load_task_policy(o.policy, task);
     const io::SimScenario& sc = setup.scenario;
     std::vector<std::pair<int, std::vector<double>>> designs;
     designs.push_back({o.design.value_or(sc.design), o.pressures.empty() ? sc.pressures_kPa : o.pressures});
@@ -125,7 +126,9 @@ int run_render(const RenderCliOptions& o) {
         seqs.push_back(coopt::record_scenario(sims, task, s, rc.every_steps, "sim: " + title));
       } else {
         coopt::EpisodeSetup s{j, p[0], p[1], phase, 0.0};
-        seqs.push_back(coopt::record_episode(sims, task, s, policy, rc.every_steps,
+        seqs.push_back(coopt::record_episode(sims, task, s,
+                                             policy ? coopt::episode_controller(policy) : coopt::Controller{},
+                                             rc.every_steps,
                                              (o.policy.empty() ? "base held: " : "policy: ") + title));
       }
     }

@@ -101,8 +101,10 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
   for (const char ch : kMagic) w.pod<char>(ch);
   // Version 2 only where it adds something (observation statistics): a run without them writes
   // the version-1 bytes it always did.
+  // Version 3 only for a recurrent policy, whose GRU parameters no earlier version holds.
   const bool with_obs_stats = c.loop.obs_mean.size() > 0;
-  w.pod<std::uint32_t>(with_obs_stats ? kCheckpointVersion : 1u);
+  const bool recurrent = c.loop.actor_gru.size() > 0;
+  w.pod<std::uint32_t>(recurrent ? 3u : with_obs_stats ? 2u : 1u);
   w.pod<std::uint64_t>(c.config_fingerprint);
   const LoopState& s = c.loop;
   w.pod<std::int64_t>(s.k);
@@ -134,10 +136,15 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
   w.pod<std::uint8_t>(d.collapsed ? 1 : 0);
   w.pod<std::int32_t>(d.best_design);
   w.doubles(d.best_latent.data(), 2);
+  if (recurrent) w.pod<std::uint8_t>(with_obs_stats ? 1 : 0);
   if (with_obs_stats) {
     w.doubles(s.obs_mean.data(), static_cast<std::size_t>(s.obs_mean.size()));
     w.doubles(s.obs_var.data(), static_cast<std::size_t>(s.obs_var.size()));
     w.pod<double>(s.obs_count);
+  }
+  if (recurrent) {
+    w.floats(s.actor_gru);
+    w.floats(s.critic_gru);
   }
   w.pod<std::uint64_t>(c.logs.size());
   for (const auto& [name, offset] : c.logs) {
@@ -169,7 +176,7 @@ Checkpoint parse_checkpoint(std::span<const unsigned char> bytes, const std::str
     throw InputError("checkpoint " + path + ": checksum mismatch (file damaged or truncated)");
   Reader r(path, bytes.subspan(8, bytes.size() - 16));
   const auto version = r.pod<std::uint32_t>("version");
-  if (version != 1 && version != kCheckpointVersion)
+  if (version < 1 || version > kCheckpointVersion)
     r.fail("unsupported version " + std::to_string(version) + " (this build reads versions 1 to " +
            std::to_string(kCheckpointVersion) + ")");
   Checkpoint c;
@@ -213,7 +220,13 @@ Checkpoint parse_checkpoint(std::span<const unsigned char> bytes, const std::str
   d.best_design = r.pod<std::int32_t>("best design");
   const std::vector<double> bl = fixed("best latent", 2);
   d.best_latent = {bl[0], bl[1]};
-  if (version >= 2) {
+  bool obs_stats = version == 2;
+  if (version == 3) {
+    const auto flag = r.pod<std::uint8_t>("observation statistics flag");
+    if (flag > 1) r.fail("observation statistics flag " + std::to_string(flag) + " is not 0 or 1");
+    obs_stats = flag == 1;
+  }
+  if (obs_stats) {
     const std::vector<double> mean = r.doubles("observation mean"), var = r.doubles("observation variance");
     if (mean.empty() || var.size() != mean.size())
       r.fail("observation statistics of " + std::to_string(mean.size()) + " and " + std::to_string(var.size()) +
@@ -221,6 +234,11 @@ Checkpoint parse_checkpoint(std::span<const unsigned char> bytes, const std::str
     s.obs_mean = Eigen::Map<const Eigen::VectorXd>(mean.data(), static_cast<Eigen::Index>(mean.size()));
     s.obs_var = Eigen::Map<const Eigen::VectorXd>(var.data(), static_cast<Eigen::Index>(var.size()));
     s.obs_count = r.pod<double>("observation count");
+  }
+  if (version == 3) {
+    s.actor_gru = r.floats("actor GRU parameters");
+    s.critic_gru = r.floats("critic GRU parameters");
+    if (s.actor_gru.size() == 0 || s.critic_gru.size() == 0) r.fail("a version-3 checkpoint without GRU parameters");
   }
   const auto logs = r.count("log count", 16);
   for (std::uint64_t i = 0; i < logs; ++i) {

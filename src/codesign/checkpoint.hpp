@@ -2,7 +2,9 @@
 // Checkpoints of a co-design run: the whole LoopState plus the run's bookkeeping, in one
 // versioned, checksummed binary file written atomically (PATH.tmp, then rename).
 //
-// Format (little-endian; versions 1 and 2, 2 = 1 plus the observation statistics):
+// Format (little-endian; versions 1 to 3, 2 = 1 plus the observation statistics, 3 = 1 plus the
+// optional statistics and the recurrent layers; each run writes the oldest version that holds its
+// state):
 //   magic "CDSCKPT1", u32 version, u64 config fingerprint (FNV-1a of the resolved config text),
 //   i64 k, i64 t, f64 wall_s,
 //   vectors (u64 length + f32 data): actor, critic, log_std,
@@ -12,6 +14,8 @@
 //     buffer (u64 length + f64s), samples (i64); u8 collapsed, i32 best design, 2 f64 best latent,
 //   version 2 only (written when ppo.normalize_observations is on): observation mean and variance
 //     (u64 length + f64s each), f64 count,
+//   version 3 only (written when ppo.policy = "gru"): u8 1 if the observation statistics follow
+//     (as in version 2), then the actor's and the critic's GRU parameters (f32 vectors),
 //   u64 log count, per log: string name, u64 byte offset,
 //   u64 FNV-1a checksum of every byte before it.
 // Reading checks every length against the bytes left, the checksum, the version and the config
@@ -25,7 +29,7 @@
 
 namespace codesign::coopt {
 
-inline constexpr std::uint32_t kCheckpointVersion = 2;
+inline constexpr std::uint32_t kCheckpointVersion = 3;
 
 struct Checkpoint {
   std::uint64_t config_fingerprint = 0;

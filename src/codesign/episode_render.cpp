@@ -11,6 +11,7 @@
 
 #include "base/errors.hpp"
 #include "base/file_write.hpp"
+#include "codesign/policy_controller.hpp"
 #include "fem/design.hpp"
 #include "fem/mesh_ops.hpp"
 #include "io/atomic_file.hpp"
@@ -287,7 +288,7 @@ std::optional<EpisodeSetup> result_design(const fs::path& run_dir, const std::st
   return setup;
 }
 
-Controller policy_controller(const fs::path& policy_file, const TaskConfig& task) {
+std::shared_ptr<const rl::Policy> load_task_policy(const fs::path& policy_file, const TaskConfig& task) {
   auto policy = std::make_shared<const rl::Policy>(rl::Policy::load(policy_file));
   if (policy->obs_dim() != observation_dim(task) || policy->act_dim() != 1)
     throw InputError(policy_file.string() + ": the policy takes " + std::to_string(policy->obs_dim()) +
@@ -295,12 +296,12 @@ Controller policy_controller(const fs::path& policy_file, const TaskConfig& task
                      to_string(task.observation) + "\" observation with history " +
                      std::to_string(task.history) + " has " +
                      std::to_string(observation_dim(task)) + " and 1 action");
-  return [policy](const Eigen::VectorXd& obs) { return policy->act_deterministic(obs)[0]; };
+  return policy;
 }
 
 void render_run_frames(const fs::path& run_dir, const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task,
                        int eval_episodes, const io::RenderConfig& config, bool force) {
-  const Controller controller = policy_controller(run_dir / "policy.bin", task);
+  const std::shared_ptr<const rl::Policy> policy = load_task_policy(run_dir / "policy.bin", task);
   for (const char* which : {"best", "runner_up"}) {
     std::optional<EpisodeSetup> setup = result_design(run_dir, which);
     if (!setup) continue;
@@ -310,7 +311,7 @@ void render_run_frames(const fs::path& run_dir, const std::shared_ptr<SimulatorP
     for (int k = 0; k < std::min(config.episodes, eval_episodes); ++k) {
       setup->plate_phase_rad = evaluation_phase(k, eval_episodes);
       std::vector<RecordedFrame> e =
-          record_episode(sims, task, *setup, controller, config.every_steps,
+          record_episode(sims, task, *setup, episode_controller(policy), config.every_steps,
                          label + design_title(setup->design, setup->p1_kPa, setup->p2_kPa), k);
       frames.insert(frames.end(), std::make_move_iterator(e.begin()), std::make_move_iterator(e.end()));
     }

@@ -20,6 +20,7 @@
 #include "io/fem_config.hpp"
 #include "io/render_config.hpp"
 #include "io/render_scene.hpp"
+#include "rl/policy_file.hpp"
 
 namespace codesign::coopt {
 
@@ -74,9 +75,9 @@ int write_frames(const std::filesystem::path& dir, const std::vector<std::vector
 // d* ("best") or the runner-up ("runner_up") of RUN_DIR/result.toml, at plate phase 0;
 // nullopt when the file has no such table (single-design runs have no runner-up).
 std::optional<EpisodeSetup> result_design(const std::filesystem::path& run_dir, const std::string& which);
-// The deterministic action of a policy file (rl::Policy); throws InputError if the policy's
-// observation size does not fit the task's observation set.
-Controller policy_controller(const std::filesystem::path& policy_file, const TaskConfig& task);
+// A policy file (rl::Policy) for the task; throws InputError if the policy's observation size does
+// not fit the task's observation set. Its controllers: policy_controller.hpp (one per episode).
+std::shared_ptr<const rl::Policy> load_task_policy(const std::filesystem::path& policy_file, const TaskConfig& task);
 
 // "j21 {1, 28 mm, 2.5 mm}  p = [0.069, 0] kPa"
 std::string design_title(int design, double p1_kPa, double p2_kPa);

@@ -7,6 +7,8 @@
 
 #include "base/seconds_since.hpp"
 #include "fem/design.hpp"
+#include "rl/gru_policy.hpp"
+#include "rl/recurrent_ppo.hpp"
 #include "rl/rollout.hpp"
 
 namespace codesign::coopt {
@@ -29,6 +31,15 @@ const LoopConfig& checked(const LoopConfig& c, const EnvPool* envs) {
                                 " privileged features; ppo.privileged_critic asks for " +
                                 std::to_string(c.ppo.privileged_critic ? kPrivilegedDim : 0));
   return c;
+}
+
+// The feed-forward model of ppo.policy = "mlp"; an empty one with "gru" (the recurrent model is
+// built beside it).
+rl::ActorCritic feed_forward_model(const LoopConfig& c, const EnvPool& envs) {
+  if (c.ppo.policy != rl::PolicyKind::Mlp) return {};
+  return rl::ActorCritic(observation_dim(c.task), static_cast<int>(envs.spec().action.dim()), c.ppo.actor_hidden,
+                         c.ppo.critic_hidden, static_cast<float>(c.ppo.log_std_init),
+                         c.ppo.privileged_critic ? kPrivilegedDim : 0);
 }
 
 }  // namespace
@@ -67,9 +78,7 @@ std::vector<int> design_chambers() {
 OuterLoop::OuterLoop(const LoopConfig& config, std::unique_ptr<EnvPool> envs)
     : config_(checked(config, envs.get())),
       envs_(std::move(envs)),
-      model_(observation_dim(config_.task), static_cast<int>(envs_->spec().action.dim()), config_.ppo.actor_hidden,
-             config_.ppo.critic_hidden, static_cast<float>(config_.ppo.log_std_init),
-             config_.ppo.privileged_critic ? kPrivilegedDim : 0),
+      model_(feed_forward_model(config_, *envs_)),
       optimizer_(rl::make_adam(config_.ppo)),
       buffer_(config_.ppo.n_steps, static_cast<int>(envs_->size()), static_cast<int>(envs_->spec().observation.dim()),
               static_cast<int>(envs_->spec().action.dim())),
@@ -79,8 +88,16 @@ OuterLoop::OuterLoop(const LoopConfig& config, std::unique_ptr<EnvPool> envs)
   act_rng_ = master.split();
   update_rng_ = master.split();
   design_rng_ = master.split();
-  model_.init_orthogonal(init_rng);
-  model_.set_matmul_precision(config_.ppo.matmul_precision);
+  if (config_.ppo.policy == rl::PolicyKind::Gru) {
+    recurrent_.emplace(observation_dim(config_.task), static_cast<int>(envs_->spec().action.dim()),
+                       config_.ppo.gru_hidden, config_.ppo.actor_hidden, config_.ppo.critic_hidden,
+                       static_cast<float>(config_.ppo.log_std_init), config_.ppo.privileged_critic ? kPrivilegedDim : 0);
+    recurrent_->init(init_rng);
+    recurrent_->set_matmul_precision(config_.ppo.matmul_precision);
+  } else {
+    model_.init_orthogonal(init_rng);
+    model_.set_matmul_precision(config_.ppo.matmul_precision);
+  }
   if (config_.ppo.normalize_observations)
     obs_stats_.emplace(static_cast<int>(envs_->spec().observation.dim()));
 }
@@ -89,10 +106,16 @@ std::optional<rl::ObsNormalization> OuterLoop::obs_normalization() const {
   if (!obs_stats_) return std::nullopt;
   rl::ObsNormalization n = obs_stats_->frozen();
   // The policy acts on the actor's rows; privileged features come after them.
-  const Eigen::Index actor = model_.obs_dim();
+  const Eigen::Index actor = recurrent_ ? recurrent_->obs_dim() : model_.obs_dim();
   n.mean = n.mean.head(actor).eval();
   n.var = n.var.head(actor).eval();
   return n;
+}
+
+rl::PolicyFileContents OuterLoop::policy_contents() const {
+  rl::PolicyFileContents c{model_, obs_normalization()};
+  c.recurrent = recurrent_;
+  return c;
 }
 
 std::vector<DesignSample> OuterLoop::sample_designs(std::vector<EpisodeSetup>& setups) {
@@ -148,14 +171,21 @@ IterationReport OuterLoop::iterate() {
   };
   const rl::RolloutOptions options{n_steps, config_.ppo.gamma, config_.ppo.gae_lambda,
                                    obs_stats_ ? &*obs_stats_ : nullptr};
-  rl::MlpPolicy policy(model_);
+  // Each column is one episode from reset (episode_starts is 1 at step 0), so the recurrent
+  // policy's sequences all start from a zero state.
+  std::optional<rl::GruPolicy> gru;
+  std::optional<rl::MlpPolicy> mlp;
+  rl::RolloutPolicy& policy = recurrent_ ? static_cast<rl::RolloutPolicy&>(gru.emplace(*recurrent_, n))
+                                         : static_cast<rl::RolloutPolicy&>(mlp.emplace(model_));
   rep.policy_s = rl::collect_rollout(policy, step, envs_->spec().action, options, obs, episode_starts, buffer_,
                                      act_rng_, observe).policy_s;
   t_ += static_cast<std::int64_t>(n) * config_.ppo.n_steps;
   rep.collect_s = seconds_since(t_collect);
 
   const auto t_update = std::chrono::steady_clock::now();
-  rep.ppo = rl::ppo_update(model_, optimizer_, buffer_, config_.ppo, t_, update_rng_);
+  rep.ppo = recurrent_ ? rl::recurrent_ppo_update(*recurrent_, optimizer_, buffer_, gru->rollout_start_state(),
+                                                  config_.ppo, t_, update_rng_)
+                       : rl::ppo_update(model_, optimizer_, buffer_, config_.ppo, t_, update_rng_);
   rep.learning_rate = rl::learning_rate_at(config_.ppo, t_);
   rep.update_s = seconds_since(t_update);
 
@@ -175,9 +205,17 @@ LoopState OuterLoop::state() const {
   LoopState s;
   s.k = k_;
   s.t = t_;
-  s.actor = model_.actor().params();
-  s.critic = model_.critic().params();
-  s.log_std = model_.log_std();
+  if (recurrent_) {
+    s.actor = recurrent_->actor().params();
+    s.critic = recurrent_->critic().params();
+    s.log_std = recurrent_->log_std();
+    s.actor_gru = recurrent_->actor_gru().params();
+    s.critic_gru = recurrent_->critic_gru().params();
+  } else {
+    s.actor = model_.actor().params();
+    s.critic = model_.critic().params();
+    s.log_std = model_.log_std();
+  }
   s.adam_steps = optimizer_.step_count();
   for (std::size_t i = 0; i < optimizer_.block_count(); ++i) {
     s.adam_m.push_back(optimizer_.first_moment(i));
@@ -196,11 +234,17 @@ LoopState OuterLoop::state() const {
 }
 
 void OuterLoop::restore(const LoopState& s) {
-  if (s.actor.size() != model_.actor().num_params() || s.critic.size() != model_.critic().num_params() ||
-      s.log_std.size() != model_.log_std().size())
-    throw std::invalid_argument("network sizes differ from this config's (" +
-                                std::to_string(model_.actor().num_params()) + " actor, " +
-                                std::to_string(model_.critic().num_params()) + " critic parameters)");
+  const rl::MlpT<float>& actor = recurrent_ ? recurrent_->actor() : model_.actor();
+  const rl::MlpT<float>& critic = recurrent_ ? recurrent_->critic() : model_.critic();
+  const Eigen::Index log_std = recurrent_ ? recurrent_->log_std().size() : model_.log_std().size();
+  if (s.actor.size() != actor.num_params() || s.critic.size() != critic.num_params() || s.log_std.size() != log_std)
+    throw std::invalid_argument("network sizes differ from this config's (" + std::to_string(actor.num_params()) +
+                                " actor, " + std::to_string(critic.num_params()) + " critic parameters)");
+  const Eigen::Index actor_gru = recurrent_ ? recurrent_->actor_gru().num_params() : 0;
+  const Eigen::Index critic_gru = recurrent_ ? recurrent_->critic_gru().num_params() : 0;
+  if (s.actor_gru.size() != actor_gru || s.critic_gru.size() != critic_gru)
+    throw std::invalid_argument("recurrent layer sizes differ from this config's (" + std::to_string(actor_gru) +
+                                " actor and " + std::to_string(critic_gru) + " critic GRU parameters)");
   if (s.k < 0 || s.t < 0) throw std::invalid_argument("negative iteration or timestep count");
   rl::Rng a, u, d;
   if (!a.restore(s.rng_act) || !u.restore(s.rng_update) || !d.restore(s.rng_design))
@@ -216,14 +260,23 @@ void OuterLoop::restore(const LoopState& s) {
   rl::Adam opt = rl::make_adam(config_.ppo);
   opt.restore(s.adam_steps, s.adam_m, s.adam_v);
   if (!s.adam_m.empty()) {
-    const std::vector<rl::AdamBlock<float>> blocks = model_.adam_blocks(model_.zero_grad());
+    const std::vector<rl::AdamBlock<float>> blocks =
+        recurrent_ ? recurrent_->adam_blocks(recurrent_->zero_grad()) : model_.adam_blocks(model_.zero_grad());
     bool same = blocks.size() == s.adam_m.size();
     for (std::size_t i = 0; same && i < blocks.size(); ++i) same = blocks[i].size == s.adam_m[i].size();
     if (!same) throw std::invalid_argument("optimiser state does not match the networks");
   }
-  model_.actor().params() = s.actor;
-  model_.critic().params() = s.critic;
-  model_.log_std() = s.log_std;
+  if (recurrent_) {
+    recurrent_->actor().params() = s.actor;
+    recurrent_->critic().params() = s.critic;
+    recurrent_->log_std() = s.log_std;
+    recurrent_->actor_gru().params() = s.actor_gru;
+    recurrent_->critic_gru().params() = s.critic_gru;
+  } else {
+    model_.actor().params() = s.actor;
+    model_.critic().params() = s.critic;
+    model_.log_std() = s.log_std;
+  }
   optimizer_ = std::move(opt);
   act_rng_ = a;
   update_rng_ = u;

@@ -8,7 +8,9 @@
 //      episode ends early restarts with the same design until the rollout is full), storing the
 //      transitions in the rollout buffer with SB3's semantics (unclipped actions, timeout
 //      bootstrapping), then GAE: rl::collect_rollout (rl/rollout.hpp), the gym trainer's loop;
-//   3. one PPO update on the ψ × n_steps transitions;
+//   3. one PPO update on the ψ × n_steps transitions (ppo.policy = "gru": the recurrent
+//      actor-critic, acting with one hidden state per environment reset at each episode start, and
+//      rl::recurrent_ppo_update over whole environment columns, each one episode from reset);
 //   4. the return of each environment's first episode, R_{d_i}, feeds Algorithm 2;
 //   5. t += ψ · n_steps, k += 1.
 // The run ends when t ≥ total_timesteps. Everything that defines the future of the loop is in
@@ -31,7 +33,9 @@
 #include "rl/actor_critic.hpp"
 #include "rl/adam.hpp"
 #include "rl/obs_normalizer.hpp"
+#include "rl/policy_file.hpp"
 #include "rl/ppo.hpp"
+#include "rl/recurrent_actor_critic.hpp"
 #include "rl/rng.hpp"
 #include "rl/rollout_buffer.hpp"
 
@@ -79,7 +83,10 @@ struct IterationReport {
 struct LoopState {
   int k = 0;
   std::int64_t t = 0;
+  // The MLPs of actor and critic (after their GRUs with ppo.policy = "gru") and log_std.
   Eigen::VectorXf actor, critic, log_std;
+  // ppo.policy = "gru": the parameters of the two GRUs; empty otherwise.
+  Eigen::VectorXf actor_gru, critic_gru;
   std::int64_t adam_steps = 0;
   std::vector<Eigen::VectorXf> adam_m, adam_v;
   std::string rng_act, rng_update, rng_design;
@@ -101,7 +108,12 @@ class OuterLoop {
   void restore(const LoopState& s);
 
   const LoopConfig& config() const { return config_; }
+  // The feed-forward model (ppo.policy = "mlp"; empty with "gru").
   const rl::ActorCritic& model() const { return model_; }
+  // The recurrent model (ppo.policy = "gru"), else null.
+  const rl::RecurrentActorCritic* recurrent_model() const { return recurrent_ ? &*recurrent_ : nullptr; }
+  // What policy.bin holds: the trained model, whichever kind, and obs_normalization().
+  rl::PolicyFileContents policy_contents() const;
   // The frozen observation normalisation the policy acts after (ppo.normalize_observations), of
   // the actor's components only (a privileged critic's features are not the policy's input);
   // nullopt when off.
@@ -118,6 +130,7 @@ class OuterLoop {
   LoopConfig config_;
   std::unique_ptr<EnvPool> envs_;
   rl::ActorCritic model_;
+  std::optional<rl::RecurrentActorCritic> recurrent_;
   rl::Adam optimizer_;
   rl::RolloutBuffer buffer_;
   rl::Rng act_rng_, update_rng_, design_rng_;

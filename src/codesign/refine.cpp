@@ -26,6 +26,16 @@ void RefineConfig::validate() const {
 RefineResult refine_pressures(const Controller& policy, const std::shared_ptr<SimulatorPool>& sims,
                               const TaskConfig& task, int design, std::array<double, 2> p_before,
                               const RefineConfig& config, std::size_t threads) {
+  if (!policy) throw std::invalid_argument("refine: no policy");
+  const ControllerFactory make = [&policy] {
+    return FeedbackController([&policy](const Eigen::VectorXd& obs, const fem::Sensors&) { return policy(obs); });
+  };
+  return refine_pressures(make, sims, task, design, p_before, config, threads);
+}
+
+RefineResult refine_pressures(const ControllerFactory& policy, const std::shared_ptr<SimulatorPool>& sims,
+                              const TaskConfig& task, int design, std::array<double, 2> p_before,
+                              const RefineConfig& config, std::size_t threads) {
   config.validate();
   if (!policy) throw std::invalid_argument("refine: no policy");
   const int n = fem::design_from_index(design).n;
@@ -45,7 +55,7 @@ RefineResult refine_pressures(const Controller& policy, const std::shared_ptr<Si
   tuning.threads = threads;
   tuning.trace_first = false;
   auto tuning_return = [&](double p1, double p2) {
-    return evaluate_design(policy, sims, task, {design, p1, p2, 0.0, 0.0}, tuning).mean_return;
+    return evaluate_feedback(policy, sims, task, {design, p1, p2, 0.0, 0.0}, tuning).mean_return;
   };
   out.tuning_before = tuning_return(p_before[0], p_before[1]);
   const SearchBox box{{0.0, 0.0}, {pmax, n == 2 ? pmax : 0.0}};
@@ -63,8 +73,8 @@ RefineResult refine_pressures(const Controller& policy, const std::shared_ptr<Si
   EvaluationOptions test;
   test.episodes = config.test_episodes;
   test.threads = threads;
-  out.test_before = evaluate_design(policy, sims, task, {design, p_before[0], p_before[1], 0.0, 0.0}, test);
-  out.test_after = evaluate_design(policy, sims, task, {design, out.p_after[0], out.p_after[1], 0.0, 0.0}, test);
+  out.test_before = evaluate_feedback(policy, sims, task, {design, p_before[0], p_before[1], 0.0, 0.0}, test);
+  out.test_after = evaluate_feedback(policy, sims, task, {design, out.p_after[0], out.p_after[1], 0.0, 0.0}, test);
   return out;
 }
 

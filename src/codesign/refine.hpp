@@ -33,6 +33,11 @@ struct RefineResult {
   RefineConfig config;
 };
 
+// `policy` makes the controller of each episode (policy_controller.hpp: a recurrent policy starts
+// every episode from a zero state); a memoryless controller may be given as it is.
+RefineResult refine_pressures(const ControllerFactory& policy, const std::shared_ptr<SimulatorPool>& sims,
+                              const TaskConfig& task, int design, std::array<double, 2> p_before,
+                              const RefineConfig& config, std::size_t threads = 1);
 RefineResult refine_pressures(const Controller& policy, const std::shared_ptr<SimulatorPool>& sims,
                               const TaskConfig& task, int design, std::array<double, 2> p_before,
                               const RefineConfig& config, std::size_t threads = 1);

@@ -23,6 +23,7 @@
 #include "codesign/design_sweep.hpp"
 #include "codesign/evaluation.hpp"
 #include "codesign/failure_count.hpp"
+#include "codesign/policy_controller.hpp"
 #include "codesign/stop_signals.hpp"
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
@@ -538,14 +539,13 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   }
   // The final policy as policy.bin will hold it: the model and its frozen observation
   // normalisation, acting as every later reader of the file acts (rl::Policy).
-  const rl::Policy final_policy(rl::PolicyFileContents{loop.model(), loop.obs_normalization()});
-  const Controller policy = [&final_policy](const Eigen::VectorXd& obs) {
-    return final_policy.act_deterministic(obs)[0];
-  };
+  // One controller per episode: a recurrent policy's state starts at zero in each.
+  const auto final_policy = std::make_shared<const rl::Policy>(loop.policy_contents());
+  const ControllerFactory policy = policy_factory(final_policy);
   EvaluationOptions eo;
   eo.episodes = c.eval_episodes;
   eo.threads = options.threads;
-  const DesignEvaluation eb = evaluate_design(policy, sims, lc.task, best, eo);
+  const DesignEvaluation eb = evaluate_feedback(policy, sims, lc.task, best, eo);
   write_eval(dir / "eval", "best", eb);
   if (telemetry->enabled()) {
     const PublishMeter::Scope timed(meter, static_cast<std::int64_t>(eb.trace.size()));
@@ -554,7 +554,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   if (const int sig = stop_signal(); sig != 0) return stopped(sig, in_evaluation);
   std::optional<DesignEvaluation> er;
   if (has_runner) {
-    er = evaluate_design(policy, sims, lc.task, runner, eo);
+    er = evaluate_feedback(policy, sims, lc.task, runner, eo);
     write_eval(dir / "eval", "runner_up", *er);
     if (telemetry->enabled()) {
       const PublishMeter::Scope timed(meter, static_cast<std::int64_t>(er->trace.size()));
@@ -569,7 +569,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
                              options.threads);
     if (const int sig = stop_signal(); sig != 0) return stopped(sig, in_evaluation);
   }
-  rl::save_policy(dir / "policy.bin", final_policy.model(), final_policy.obs_norm());
+  rl::save_policy(dir / "policy.bin", final_policy->contents());
   result.wall_s = elapsed();
   const double wall_total = wall_before + result.wall_s;
   io::write_file_atomically((dir / "result.toml").string(), [&](std::ostream& out) {

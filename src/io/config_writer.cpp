@@ -173,6 +173,10 @@ void write_ppo_table(std::ostream& out, const rl::PpoConfig& c) {
   // what it was before the key existed, so such runs still resume.
   if (c.normalize_observations) t.boolean("normalize_observations", true);
   if (c.privileged_critic) t.boolean("privileged_critic", true);
+  if (c.policy == rl::PolicyKind::Gru) {  // only when not the default, as the two keys above
+    t.string("policy", "gru");
+    t.integer("gru_hidden", c.gru_hidden);
+  }
   t.integers("actor_hidden", c.actor_hidden);
   t.integers("critic_hidden", c.critic_hidden);
   t.number("log_std_init", c.log_std_init);

@@ -85,6 +85,16 @@ rl::PpoConfig read_ppo_config(TableReader& t, const rl::PpoConfig& d) {
   c.normalize_advantage = t.boolean("normalize_advantage", d.normalize_advantage);
   c.normalize_observations = t.boolean("normalize_observations", d.normalize_observations);
   c.privileged_critic = t.boolean("privileged_critic", d.privileged_critic);
+  const std::string kind = t.string("policy", d.policy == rl::PolicyKind::Gru ? "gru" : "mlp", {"mlp", "gru"});
+  c.policy = kind == "gru" ? rl::PolicyKind::Gru : rl::PolicyKind::Mlp;
+  c.gru_hidden = d.gru_hidden;
+  if (c.policy == rl::PolicyKind::Gru) {
+    c.gru_hidden = static_cast<int>(t.integer("gru_hidden", d.gru_hidden, ppo_range::gru_hidden));
+  } else {
+    if (t.has("gru_hidden"))
+      t.fail("gru_hidden", "applies only with policy = \"gru\"; set policy = \"gru\" or drop it");
+    t.integer("gru_hidden", d.gru_hidden, ppo_range::gru_hidden);  // marks it read
+  }
   c.actor_hidden = hidden(t, "actor_hidden", d.actor_hidden);
   c.critic_hidden =
       hidden(t, "critic_hidden", d.critic_hidden);
@@ -130,6 +140,9 @@ GymTrainConfig read_gym_config(TableReader& root) {
   if (g.trainer.ppo.privileged_critic)
     ppo.fail("privileged_critic", "value true is not allowed here: the gym tasks supply no privileged "
                                   "features (only the whisker co-design does); allowed: false");
+  if (g.trainer.ppo.policy == rl::PolicyKind::Gru)
+    ppo.fail("policy", "value \"gru\" is not allowed here: train-gym runs the feed-forward policy only (the "
+                       "recurrent one is wired into the whisker co-design); allowed: \"mlp\"");
   const std::int64_t rollout = static_cast<std::int64_t>(g.trainer.ppo.n_steps) * g.trainer.n_envs;
   if (g.trainer.ppo.batch_size > rollout)
     ppo.fail("batch_size", "value " + std::to_string(g.trainer.ppo.batch_size) +

@@ -90,6 +90,7 @@ void validate(const PpoConfig& c) {
   check("vf_coef", c.vf_coef, ppo_range::vf_coef);
   check("max_grad_norm", c.max_grad_norm, ppo_range::max_grad_norm);
   if (c.target_kl) check("target_kl", *c.target_kl, ppo_range::target_kl);
+  check("gru_hidden", std::int64_t{c.gru_hidden}, ppo_range::gru_hidden);
   check("log_std_init", c.log_std_init, ppo_range::log_std_init);
   if (c.log_std_min) {
     check("log_std_min", *c.log_std_min, ppo_range::log_std_init);
@@ -106,13 +107,15 @@ void validate(const PpoConfig& c) {
 }
 
 template <class S>
-PpoLossT<S> ppo_minibatch_loss(const ActorCriticT<S>& model, const PpoMinibatchT<S>& batch,
-                               const PpoLossCoefficients& coefs, ActorCriticGradT<S>* grad,
-                               PpoWorkspaceT<S>& ws) {
+PpoLossT<S> ppo_loss_from_outputs(const Eigen::Ref<const typename PpoMinibatchT<S>::Mat>& mean_action,
+                                  const Eigen::Ref<const typename PpoMinibatchT<S>::Mat>& values,
+                                  const Eigen::Ref<const typename PpoMinibatchT<S>::Vec>& log_std,
+                                  const PpoMinibatchT<S>& batch, const PpoLossCoefficients& coefs,
+                                  PpoOutputGradT<S>* grad) {
   using RowVec = typename PpoMinibatchT<S>::RowVec;
-  const Eigen::Index n = batch.obs.cols();
-  if (n < 1 || batch.actions.cols() != n || batch.old_log_prob.size() != n ||
-      batch.advantages.size() != n || batch.returns.size() != n)
+  const Eigen::Index n = batch.actions.cols();
+  if (n < 1 || batch.old_log_prob.size() != n || batch.advantages.size() != n || batch.returns.size() != n ||
+      mean_action.cols() != n || values.rows() != 1 || values.cols() != n)
     throw std::invalid_argument("ppo_minibatch_loss: minibatch arrays disagree in length");
   const S inv_n = S(1) / S(n);
 
@@ -124,19 +127,7 @@ PpoLossT<S> ppo_minibatch_loss(const ActorCriticT<S>& model, const PpoMinibatchT
     adv = (adv.array() - mean) / (stddev + S(1e-8));
   }
 
-  if (batch.obs.rows() != model.critic_input_dim())
-    throw std::invalid_argument("ppo_minibatch_loss: observations have " + std::to_string(batch.obs.rows()) +
-                                " rows, the model takes " + std::to_string(model.critic_input_dim()));
-  // The actor reads the first obs_dim rows; the critic all (a privileged critic reads more).
-  const auto& mean_action =
-      model.privileged_dim() == 0
-          ? model.actor().forward(batch.obs, ws.actor_cache, ws.actor_pending ? &ws.actor_pending : nullptr)
-          : model.actor().forward(model.actor_rows(batch.obs), ws.actor_cache,
-                                  ws.actor_pending ? &ws.actor_pending : nullptr);
-  const auto& values = model.critic().forward(
-      batch.obs, ws.critic_cache, ws.critic_pending ? &ws.critic_pending : nullptr);
-  if (ws.log_std_pending) ws.log_std_pending();
-  const RowVec log_prob = gaussian_log_prob<S>(mean_action, model.log_std(), batch.actions);
+  const RowVec log_prob = gaussian_log_prob<S>(mean_action, log_std, batch.actions);
   const RowVec log_ratio = log_prob - batch.old_log_prob;
   const RowVec ratio = log_ratio.array().exp();
 
@@ -159,25 +150,60 @@ PpoLossT<S> ppo_minibatch_loss(const ActorCriticT<S>& model, const PpoMinibatchT
   }
   out.pg_loss = -pg_sum * inv_n;
   out.value_loss = (batch.returns - values.row(0)).squaredNorm() * inv_n;
-  const S entropy = gaussian_entropy<S>(model.log_std());
+  const S entropy = gaussian_entropy<S>(log_std);
   out.entropy_loss = -entropy;  // -mean(entropy); the entropy is the same for every sample
   out.loss = out.pg_loss + S(coefs.ent_coef) * out.entropy_loss + S(coefs.vf_coef) * out.value_loss;
   out.approx_kl = kl_sum * inv_n;
   out.clip_fraction = S(clipped) * inv_n;
 
   if (grad != nullptr) {
-    grad->log_std.setZero();
-    gaussian_log_prob_backward<S>(mean_action, model.log_std(), batch.actions, d_logp, ws.d_mean,
-                                  grad->log_std);
-    gaussian_entropy_backward<S>(-S(coefs.ent_coef), grad->log_std);
-    ws.d_value = (S(2 * coefs.vf_coef) * inv_n) * (values.row(0) - batch.returns);
-    out.grad_squared_norm = model.actor().backward(ws.actor_cache, ws.d_mean, grad->actor) +
-                            model.critic().backward(ws.critic_cache, ws.d_value, grad->critic) +
+    grad->d_log_std.resize(log_std.size());
+    grad->d_log_std.setZero();
+    gaussian_log_prob_backward<S>(mean_action, log_std, batch.actions, d_logp, grad->d_mean, grad->d_log_std);
+    gaussian_entropy_backward<S>(-S(coefs.ent_coef), grad->d_log_std);
+    grad->d_value = (S(2 * coefs.vf_coef) * inv_n) * (values.row(0) - batch.returns);
+  }
+  return out;
+}
+
+template <class S>
+PpoLossT<S> ppo_minibatch_loss(const ActorCriticT<S>& model, const PpoMinibatchT<S>& batch,
+                               const PpoLossCoefficients& coefs, ActorCriticGradT<S>* grad,
+                               PpoWorkspaceT<S>& ws) {
+  const Eigen::Index n = batch.obs.cols();
+  if (n < 1 || batch.actions.cols() != n)
+    throw std::invalid_argument("ppo_minibatch_loss: minibatch arrays disagree in length");
+  if (batch.obs.rows() != model.critic_input_dim())
+    throw std::invalid_argument("ppo_minibatch_loss: observations have " + std::to_string(batch.obs.rows()) +
+                                " rows, the model takes " + std::to_string(model.critic_input_dim()));
+  // The actor reads the first obs_dim rows; the critic all (a privileged critic reads more).
+  const auto& mean_action =
+      model.privileged_dim() == 0
+          ? model.actor().forward(batch.obs, ws.actor_cache, ws.actor_pending ? &ws.actor_pending : nullptr)
+          : model.actor().forward(model.actor_rows(batch.obs), ws.actor_cache,
+                                  ws.actor_pending ? &ws.actor_pending : nullptr);
+  const auto& values = model.critic().forward(
+      batch.obs, ws.critic_cache, ws.critic_pending ? &ws.critic_pending : nullptr);
+  if (ws.log_std_pending) ws.log_std_pending();
+  PpoLossT<S> out = ppo_loss_from_outputs<S>(mean_action, values, model.log_std(), batch, coefs,
+                                             grad ? &ws.outputs : nullptr);
+  if (grad != nullptr) {
+    grad->log_std = ws.outputs.d_log_std;
+    out.grad_squared_norm = model.actor().backward(ws.actor_cache, ws.outputs.d_mean, grad->actor) +
+                            model.critic().backward(ws.critic_cache, ws.outputs.d_value, grad->critic) +
                             static_cast<double>(grad->log_std.squaredNorm());
   }
   return out;
 }
 
+template PpoLossT<float> ppo_loss_from_outputs<float>(
+    const Eigen::Ref<const PpoMinibatchT<float>::Mat>&, const Eigen::Ref<const PpoMinibatchT<float>::Mat>&,
+    const Eigen::Ref<const PpoMinibatchT<float>::Vec>&, const PpoMinibatchT<float>&, const PpoLossCoefficients&,
+    PpoOutputGradT<float>*);
+template PpoLossT<double> ppo_loss_from_outputs<double>(
+    const Eigen::Ref<const PpoMinibatchT<double>::Mat>&, const Eigen::Ref<const PpoMinibatchT<double>::Mat>&,
+    const Eigen::Ref<const PpoMinibatchT<double>::Vec>&, const PpoMinibatchT<double>&, const PpoLossCoefficients&,
+    PpoOutputGradT<double>*);
 template PpoLossT<float> ppo_minibatch_loss<float>(const ActorCriticT<float>&,
                                                    const PpoMinibatchT<float>&,
                                                    const PpoLossCoefficients&,
@@ -188,8 +214,6 @@ template PpoLossT<double> ppo_minibatch_loss<double>(const ActorCriticT<double>&
                                                      ActorCriticGradT<double>*,
                                                      PpoWorkspaceT<double>&);
 
-namespace {
-
 double explained_variance(const Eigen::RowVectorXf& y_pred, const Eigen::RowVectorXf& y_true) {
   const Eigen::RowVectorXd t = y_true.cast<double>();
   const Eigen::RowVectorXd d = t - y_pred.cast<double>();
@@ -197,8 +221,6 @@ double explained_variance(const Eigen::RowVectorXf& y_pred, const Eigen::RowVect
   if (var_y == 0) return std::numeric_limits<double>::quiet_NaN();
   return 1.0 - (d.array() - d.mean()).square().mean() / var_y;
 }
-
-}  // namespace
 
 PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& buffer,
                     const PpoConfig& config, std::int64_t num_timesteps, Rng& rng,

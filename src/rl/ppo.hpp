@@ -30,6 +30,10 @@
 
 namespace codesign::rl {
 
+// The policy network: the feed-forward actor-critic (actor_critic.hpp), or a GRU before each of
+// its MLPs (recurrent_actor_critic.hpp, updated by recurrent_ppo.hpp).
+enum class PolicyKind { Mlp, Gru };
+
 // Defaults are SB3's PPO defaults (MlpPolicy net_arch [64, 64]).
 struct PpoConfig {
   double learning_rate = 3e-4;
@@ -63,6 +67,9 @@ struct PpoConfig {
   // whisker: force error, base angle, plate phase, time in the episode; whisker_env.hpp), the
   // actor never does. Only tasks that supply such features accept it.
   bool privileged_critic = false;
+  // Mlp (the default) or Gru: obs -> GRU(gru_hidden) -> the MLPs below, in actor and critic.
+  PolicyKind policy = PolicyKind::Mlp;
+  int gru_hidden = 64;  // used by PolicyKind::Gru only
   std::vector<int> actor_hidden = {64, 64};
   std::vector<int> critic_hidden = {64, 64};
   double log_std_init = 0.0;
@@ -99,6 +106,7 @@ inline constexpr Range<double> max_grad_norm{1e-9, 1e9};
 inline constexpr Range<double> target_kl{1e-9, 100.0};
 inline constexpr Range<std::int64_t> hidden_size{1, 8192};
 inline constexpr Range<std::int64_t> hidden_layers{1, 16};
+inline constexpr Range<std::int64_t> gru_hidden{1, 4096};
 inline constexpr Range<double> log_std_init{-20.0, 5.0};
 inline constexpr Range<double> adam_eps{1e-20, 1.0};
 }  // namespace ppo_range
@@ -143,6 +151,9 @@ struct PpoStats {
   bool early_stopped = false;
 };
 
+// 1 - Var(y_true - y_pred) / Var(y_true) (population variances, in double); NaN if Var(y_true) = 0.
+double explained_variance(const Eigen::RowVectorXf& y_pred, const Eigen::RowVectorXf& y_true);
+
 // The optimiser PPO expects: Adam with eps = config.adam_eps (betas 0.9, 0.999).
 inline Adam make_adam(const PpoConfig& config) {
   return Adam(AdamConfig{.beta1 = 0.9, .beta2 = 0.999, .eps = config.adam_eps});
@@ -162,6 +173,7 @@ PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& bu
 template <class S>
 struct PpoMinibatchT {
   using Mat = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+  using Vec = Eigen::Matrix<S, Eigen::Dynamic, 1>;
   using RowVec = Eigen::Matrix<S, 1, Eigen::Dynamic>;
   Mat obs;              // obs_dim x B
   Mat actions;          // act_dim x B (unclipped, as stored)
@@ -193,17 +205,45 @@ struct PpoLossT {
   double grad_squared_norm = 0;  // squared global L2 norm of the gradient (if one was asked for)
 };
 
+// Gradient of the loss w.r.t. what the networks put out: the action means (act_dim x B), the
+// values (1 x B) and log_std (act_dim).
+template <class S>
+struct PpoOutputGradT {
+  typename PpoMinibatchT<S>::Mat d_mean, d_value;
+  typename PpoMinibatchT<S>::Vec d_log_std;
+};
+
 // Scratch reused across minibatches (no allocation in steady state).
 template <class S>
 struct PpoWorkspaceT {
   typename MlpT<S>::Cache actor_cache, critic_cache;
-  typename MlpT<S>::Mat d_mean, d_value;
+  PpoOutputGradT<S> outputs;
   // Set by ppo_update between a deferred optimiser step and the next loss evaluation: they apply
   // the step to parameter ranges just before the forward passes read them (MlpT::forward's
   // before_use). Empty: nothing pending.
   typename MlpT<S>::ParamHook actor_pending, critic_pending;
   std::function<void()> log_std_pending;
 };
+
+// The clipped PPO loss of a minibatch from the policy's outputs on it: action means
+// (act_dim x B), values (a 1 x B matrix) and log_std; batch.obs is not read. Every policy kind shares it
+// (the feed-forward one below, the recurrent one in recurrent_ppo.hpp). If grad is non-null it
+// receives the loss's gradient w.r.t. those outputs.
+template <class S>
+PpoLossT<S> ppo_loss_from_outputs(const Eigen::Ref<const typename PpoMinibatchT<S>::Mat>& mean_action,
+                                  const Eigen::Ref<const typename PpoMinibatchT<S>::Mat>& values,
+                                  const Eigen::Ref<const typename PpoMinibatchT<S>::Vec>& log_std,
+                                  const PpoMinibatchT<S>& batch, const PpoLossCoefficients& coefs,
+                                  PpoOutputGradT<S>* grad);
+
+extern template PpoLossT<float> ppo_loss_from_outputs<float>(
+    const Eigen::Ref<const PpoMinibatchT<float>::Mat>&, const Eigen::Ref<const PpoMinibatchT<float>::Mat>&,
+    const Eigen::Ref<const PpoMinibatchT<float>::Vec>&, const PpoMinibatchT<float>&, const PpoLossCoefficients&,
+    PpoOutputGradT<float>*);
+extern template PpoLossT<double> ppo_loss_from_outputs<double>(
+    const Eigen::Ref<const PpoMinibatchT<double>::Mat>&, const Eigen::Ref<const PpoMinibatchT<double>::Mat>&,
+    const Eigen::Ref<const PpoMinibatchT<double>::Vec>&, const PpoMinibatchT<double>&, const PpoLossCoefficients&,
+    PpoOutputGradT<double>*);
 
 // Loss of one minibatch and, if grad is non-null, its gradient w.r.t. all parameters (overwrites
 // *grad, which must have the sizes of model.zero_grad()).

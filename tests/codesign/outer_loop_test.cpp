@@ -108,6 +108,52 @@ TEST(OuterLoop, PrivilegedCriticReadsTheExtraRowsAndThePolicyDoesNot) {
                std::invalid_argument);
 }
 
+// ppo.policy = "gru": the loop trains the recurrent model (both GRUs and both MLPs move), its
+// state restores exactly, and a state without the GRU parameters is refused.
+TEST(OuterLoop, RecurrentPolicyTrainsAndRestoresExactly) {
+  RunSettings s = test::tiny_run();
+  s.loop.ppo.policy = rl::PolicyKind::Gru;
+  s.loop.ppo.gru_hidden = 8;
+  s.loop.ppo.privileged_critic = true;
+  auto sims = std::make_shared<SimulatorPool>(s.spec, s.scene, s.solver);
+  auto make = [&] { return std::make_unique<OuterLoop>(s.loop, std::make_unique<ThreadEnvPool>(sims, s.loop.task, 4, 1, true)); };
+  auto a = make();
+  ASSERT_NE(a->recurrent_model(), nullptr);
+  const rl::RecurrentActorCritic before = *a->recurrent_model();
+  EXPECT_EQ(before.gru_hidden(), 8);
+  EXPECT_EQ(before.obs_dim(), observation_dim(s.loop.task));
+  EXPECT_EQ(before.critic_input_dim(), observation_dim(s.loop.task) + kPrivilegedDim);
+  a->iterate();
+  const LoopState mid = a->state();
+  EXPECT_EQ(mid.actor_gru.size(), before.actor_gru().num_params());
+  EXPECT_EQ(mid.adam_m.size(), 5u);
+  const IterationReport ra = a->iterate();
+  EXPECT_GT(ra.ppo.minibatches_applied, 0);
+  const rl::RecurrentActorCritic& after = *a->recurrent_model();
+  EXPECT_FALSE(after.actor_gru().params() == before.actor_gru().params());
+  EXPECT_FALSE(after.critic_gru().params() == before.critic_gru().params());
+  EXPECT_FALSE(after.critic().params() == before.critic().params());
+  auto b = make();
+  b->restore(mid);
+  const IterationReport rb = b->iterate();
+  ASSERT_EQ(ra.episodes.size(), rb.episodes.size());
+  for (std::size_t i = 0; i < ra.episodes.size(); ++i)
+    EXPECT_EQ(ra.episodes[i].episode_return, rb.episodes[i].episode_return);
+  EXPECT_TRUE(b->recurrent_model()->actor_gru().params() == after.actor_gru().params());
+  EXPECT_TRUE(b->recurrent_model()->actor().params() == after.actor().params());
+  EXPECT_TRUE(b->recurrent_model()->critic_gru().params() == after.critic_gru().params());
+  EXPECT_TRUE(b->policy_contents().recurrent.has_value());
+  LoopState bad = mid;
+  bad.actor_gru.resize(0);
+  EXPECT_THROW(make()->restore(bad), std::invalid_argument);
+  // A feed-forward loop refuses a recurrent state.
+  s.loop.ppo.policy = rl::PolicyKind::Mlp;
+  auto mlp = make();
+  LoopState mlp_state = mlp->state();
+  mlp_state.actor_gru = mid.actor_gru;
+  EXPECT_THROW(mlp->restore(mlp_state), std::invalid_argument);
+}
+
 TEST(OuterLoop, RejectsRolloutLengthOtherThanAnEpisode) {
   RunSettings s = test::tiny_run();
   s.loop.ppo.n_steps = 6;

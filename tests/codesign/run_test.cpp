@@ -16,6 +16,7 @@
 
 #include "base/errors.hpp"
 #include "codesign/design_sweep.hpp"
+#include "codesign/policy_controller.hpp"
 #include "codesign/run.hpp"
 #include "io/csv_table.hpp"
 #include "io/telemetry.hpp"
@@ -184,6 +185,46 @@ TEST(Run, EntropyScheduleLogsItsTargetAndResumesIdentically) {
       EXPECT_NEAR(d.number(r, d.column("top1_q")), 1.0 / std::round(std::exp(h)), 1e-15);
     }
   }
+}
+
+// A recurrent policy (ppo.policy = "gru") carries through checkpoint (version 3), resume, policy
+// file (version 3) and evaluation: the resumed run ends with the same files, and the test return
+// in result.toml is what the policy file gives with one fresh hidden state per episode.
+TEST(Run, ResumedRecurrentRunEndsIdenticallyAndItsPolicyFileReproducesTheEvaluation) {
+  RunSettings s = test::tiny_run();
+  s.loop.ppo.policy = rl::PolicyKind::Gru;
+  s.loop.ppo.gru_hidden = 8;
+  s.loop.ppo.normalize_observations = true;
+  s.config_text += "# recurrent policy\n";
+  const fs::path a = fresh_dir("gru_whole"), b = fresh_dir("gru_resumed");
+  ASSERT_TRUE(run_codesign(s, opts(a)).completed);
+  EXPECT_EQ(slurp(a / "checkpoint.bin")[8], 3);
+  EXPECT_EQ(slurp(a / "policy.bin")[8], 3);
+  RunOptions o = opts(b);
+  o.stop_after = 60;
+  ASSERT_FALSE(run_codesign(s, o).completed);
+  o.stop_after = -1;
+  o.resume = true;
+  ASSERT_TRUE(run_codesign(s, o).completed);
+  EXPECT_EQ(slurp(a / "policy.bin"), slurp(b / "policy.bin"));
+  EXPECT_EQ(result_without_wall(a), result_without_wall(b));
+  EXPECT_EQ(slurp(a / "episodes.csv"), slurp(b / "episodes.csv"));
+
+  const auto policy = std::make_shared<const rl::Policy>(rl::Policy::load(a / "policy.bin"));
+  ASSERT_TRUE(policy->recurrent());
+  ASSERT_TRUE(policy->obs_norm().has_value());
+  const std::string res = slurp(a / "result.toml");
+  const auto best = res.find("[best]");
+  const int design = std::stoi(res.substr(res.find("design = ", best) + 9));
+  const double p1 = std::stod(res.substr(res.find("pressures_kPa = [", best) + 17));
+  const double p2 = std::stod(res.substr(res.find(", ", res.find("pressures_kPa = [", best)) + 2));
+  const double test_return = std::stod(res.substr(res.find("test_return = ", best) + 14));
+  auto sims = std::make_shared<SimulatorPool>(s.spec, s.scene, s.solver);
+  EvaluationOptions eo;
+  eo.episodes = s.loop.codesign.eval_episodes;
+  eo.threads = 2;
+  const DesignEvaluation e = evaluate_feedback(policy_factory(policy), sims, s.loop.task, {design, p1, p2, 0.0, 0.0}, eo);
+  EXPECT_NEAR(e.mean_return, test_return, 1e-9 * (1 + std::abs(test_return)));  // result.toml prints 17 digits
 }
 
 TEST(Run, RefusesToOverwriteAnEarlierRun) {

@@ -110,6 +110,8 @@ void expect_same(const rl::PpoConfig& a, const rl::PpoConfig& b) {
   EXPECT_EQ(a.normalize_advantage, b.normalize_advantage);
   EXPECT_EQ(a.normalize_observations, b.normalize_observations);
   EXPECT_EQ(a.privileged_critic, b.privileged_critic);
+  EXPECT_EQ(a.policy, b.policy);
+  EXPECT_EQ(a.gru_hidden, b.gru_hidden);
   EXPECT_EQ(a.actor_hidden, b.actor_hidden);
   EXPECT_EQ(a.critic_hidden, b.critic_hidden);
   EXPECT_EQ(a.log_std_init, b.log_std_init);
@@ -187,6 +189,8 @@ target_kl = 0.015
 normalize_advantage = false
 normalize_observations = true
 privileged_critic = true
+policy = "gru"
+gru_hidden = 24
 actor_hidden = [32, 48, 16]
 critic_hidden = [96]
 log_std_init = -0.5
@@ -284,6 +288,9 @@ TEST(ConfigWriter, PpoDefaultsRoundTrip) {
   EXPECT_EQ(text.find("target_kl"), std::string::npos);
   EXPECT_EQ(text.find("ent_decay"), std::string::npos);
   EXPECT_EQ(text.find("log_std_min"), std::string::npos);  // unset: not written (old fingerprints)
+  // The feed-forward policy is the default: its config text is what it was before ppo.policy.
+  EXPECT_EQ(text.find("policy"), std::string::npos);
+  EXPECT_EQ(text.find("gru_hidden"), std::string::npos);
   const rl::PpoConfig back = read_ppo(text, {});
   expect_same(back, sb3);
   EXPECT_EQ(write_ppo(back), text);
@@ -298,6 +305,8 @@ TEST(ConfigWriter, PpoNonDefaultRoundTrip) {
   for (const rl::PpoConfig& defaults : {rl::PpoConfig{}, rl::paper_ppo_config()}) {
     const rl::PpoConfig a = read_ppo(kPpoNonDefault, defaults);
     EXPECT_EQ(a.actor_hidden, (std::vector<int>{32, 48, 16}));
+    EXPECT_EQ(a.policy, rl::PolicyKind::Gru);
+    EXPECT_EQ(a.gru_hidden, 24);
     const std::string text = write_ppo(a);
     const rl::PpoConfig back = read_ppo(text, defaults);
     expect_same(back, a);

@@ -147,6 +147,18 @@ TEST(GymConfig, CrossFieldRules) {
   EXPECT_NE(m.find("ppo.privileged_critic"), std::string::npos) << m;
   EXPECT_NE(m.find("allowed: false"), std::string::npos) << m;
   EXPECT_NO_THROW(parse("[ppo]\nprivileged_critic = false\n"));
+
+  // The recurrent policy: train-gym refuses it; gru_hidden needs it; unknown kinds are named.
+  m = error_of("[ppo]\npolicy = \"gru\"\n");
+  EXPECT_NE(m.find("test.toml"), std::string::npos) << m;
+  EXPECT_NE(m.find("ppo.policy"), std::string::npos) << m;
+  EXPECT_NE(m.find("allowed: \"mlp\""), std::string::npos) << m;
+  m = error_of("[ppo]\ngru_hidden = 32\n");
+  EXPECT_NE(m.find("ppo.gru_hidden: applies only with policy = \"gru\""), std::string::npos) << m;
+  m = error_of("[ppo]\npolicy = \"lstm\"\n");
+  EXPECT_NE(m.find("ppo.policy"), std::string::npos) << m;
+  EXPECT_NE(m.find("gru"), std::string::npos) << m;
+  EXPECT_NO_THROW(parse("[ppo]\npolicy = \"mlp\"\n"));
 }
 
 // ppo.matmul_precision: "auto" (also when absent) resolves to bf16 where the build/CPU has

@@ -111,7 +111,7 @@ TEST_F(PolicyFile, WrongMagicAndVersionAreDetected) {
   auto wrong_version = b;
   wrong_version[8] = 7;  // version is the u32 after the 8-byte magic
   write(wrong_version);
-  expect_load_error("unsupported version 7");
+  expect_load_error("unsupported version 7 (this build reads versions 1 to 3)");
   b[0] = 'X';
   write(b);
   expect_load_error("bad magic");
@@ -146,6 +146,68 @@ TEST_F(PolicyFile, PrivilegedCriticRoundTripsAsVersionTwo) {
   std::memcpy(b.data() + body, &h, sizeof h);
   write(b);
   expect_load_error("privileged_dim 0 out of range");
+}
+
+// A recurrent policy is written as version 3: every block bit-identical after the round trip, and
+// the loaded policy's episodes act as the model's deterministic steps with a state carried from
+// one decision to the next (zero at the episode's start).
+TEST_F(PolicyFile, RecurrentPolicyRoundTripsAsVersionThreeAndActsWithMemory) {
+  Rng rng(19);
+  RecurrentActorCritic gru(3, 2, 6, {16, 8}, {12}, -0.5f, 2);
+  gru.init(rng);
+  gru.actor().params() *= 3.0f;
+  const ObsNormalization norm{Eigen::Vector3d(0.1, -0.2, 0.3), Eigen::Vector3d(2.0, 0.5, 1.0), 1e-8, 5.0};
+  save_policy(path_, PolicyFileContents{ActorCritic(), norm, gru});
+  EXPECT_EQ(bytes()[8], 3);
+  const PolicyFileContents c = load_policy(path_);
+  ASSERT_TRUE(c.recurrent.has_value());
+  EXPECT_EQ(c.obs_dim(), 3);
+  EXPECT_EQ(c.act_dim(), 2);
+  EXPECT_EQ(c.privileged_dim(), 2);
+  EXPECT_EQ(c.recurrent->gru_hidden(), 6);
+  EXPECT_TRUE(c.recurrent->actor_gru().params() == gru.actor_gru().params());
+  EXPECT_TRUE(c.recurrent->actor().params() == gru.actor().params());
+  EXPECT_TRUE(c.recurrent->critic_gru().params() == gru.critic_gru().params());
+  EXPECT_TRUE(c.recurrent->critic().params() == gru.critic().params());
+  EXPECT_TRUE(c.recurrent->log_std() == gru.log_std());
+  ASSERT_TRUE(c.obs_norm.has_value());
+  EXPECT_TRUE(c.obs_norm->var == norm.var);
+
+  const Policy policy(c);
+  EXPECT_TRUE(policy.recurrent());
+  EXPECT_THROW(policy.act_deterministic(Eigen::Vector3d::Zero()), std::logic_error);
+  Policy::Episode e1 = policy.begin_episode(), e2 = policy.begin_episode();
+  Eigen::MatrixXf h = Eigen::MatrixXf::Zero(6, 1);
+  Eigen::VectorXd first;
+  for (int t = 0; t < 4; ++t) {
+    const Eigen::Vector3d obs(0.4 * t, -1.0, 2.0 - t);
+    const Eigen::VectorXd a = e1.act(obs);
+    const Eigen::MatrixXf expected =
+        gru.deterministic_step(norm.apply(obs).cast<float>(), Eigen::RowVectorXf::Constant(1, t == 0 ? 1.f : 0.f), h);
+    EXPECT_TRUE(a == expected.col(0).cast<double>()) << "step " << t;
+    if (t == 0) first = a;
+  }
+  // Another episode starts from zero again, whatever the first one did.
+  EXPECT_TRUE(e2.act(Eigen::Vector3d(0.0, -1.0, 2.0)) == first);
+
+  // Truncated: named.
+  auto b = bytes();
+  b.resize(b.size() - 40);
+  const std::size_t body = b.size() - 8;
+  const std::uint64_t sum = fnv1a64(std::span<const unsigned char>(reinterpret_cast<const unsigned char*>(b.data()), body));
+  std::memcpy(b.data() + body, &sum, sizeof sum);
+  write(b);
+  expect_load_error("policy file");
+}
+
+// A feed-forward policy acts the same through an episode as through act_deterministic.
+TEST_F(PolicyFile, FeedForwardEpisodeIsActDeterministic) {
+  const Policy policy(PolicyFileContents{model_, std::nullopt});
+  Policy::Episode e = policy.begin_episode();
+  for (int t = 0; t < 3; ++t) {
+    const Eigen::Vector3d obs(0.1 * t, 0.2, -0.3);
+    EXPECT_TRUE(e.act(obs) == policy.act_deterministic(obs));
+  }
 }
 
 }  // namespace

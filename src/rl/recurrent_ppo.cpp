@@ -1,0 +1,151 @@
+#include "rl/recurrent_ppo.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace codesign::rl {
+
+template <class S>
+PpoLossT<S> recurrent_minibatch_loss(const RecurrentActorCriticT<S>& model, const RecurrentMinibatchT<S>& batch,
+                                     const PpoLossCoefficients& coefs, RecurrentActorCriticGradT<S>* grad,
+                                     RecurrentWorkspaceT<S>& ws) {
+  const PpoMinibatchT<S>& mb = batch.samples;
+  const Eigen::Index n = mb.obs.cols();
+  if (batch.steps < 1 || n % batch.steps != 0 || batch.starts.size() != n ||
+      batch.h0_actor.cols() * batch.steps != n || batch.h0_critic.cols() != batch.h0_actor.cols())
+    throw std::invalid_argument("recurrent_minibatch_loss: sequences, masks and initial states disagree");
+  if (mb.obs.rows() != model.critic_input_dim())
+    throw std::invalid_argument("recurrent_minibatch_loss: observations have " + std::to_string(mb.obs.rows()) +
+                                " rows, the model takes " + std::to_string(model.critic_input_dim()));
+  // The actor's GRU reads the first obs_dim rows, the critic's all of them.
+  const auto& h_actor = model.actor_gru().forward(mb.obs.topRows(model.obs_dim()), batch.starts, batch.h0_actor,
+                                                  batch.steps, ws.actor_gru_cache);
+  const auto& h_critic =
+      model.critic_gru().forward(mb.obs, batch.starts, batch.h0_critic, batch.steps, ws.critic_gru_cache);
+  const auto& mean_action = model.actor().forward(h_actor, ws.actor_cache);
+  const auto& values = model.critic().forward(h_critic, ws.critic_cache);
+  PpoLossT<S> out =
+      ppo_loss_from_outputs<S>(mean_action, values, model.log_std(), mb, coefs, grad ? &ws.outputs : nullptr);
+  if (grad != nullptr) {
+    grad->log_std = ws.outputs.d_log_std;
+    out.grad_squared_norm =
+        model.actor().backward(ws.actor_cache, ws.outputs.d_mean, grad->actor, &ws.d_actor_h) +
+        model.actor_gru().backward(ws.actor_gru_cache, ws.d_actor_h, grad->actor_gru) +
+        model.critic().backward(ws.critic_cache, ws.outputs.d_value, grad->critic, &ws.d_critic_h) +
+        model.critic_gru().backward(ws.critic_gru_cache, ws.d_critic_h, grad->critic_gru) +
+        static_cast<double>(grad->log_std.squaredNorm());
+  }
+  return out;
+}
+
+template PpoLossT<float> recurrent_minibatch_loss<float>(const RecurrentActorCriticT<float>&,
+                                                         const RecurrentMinibatchT<float>&,
+                                                         const PpoLossCoefficients&,
+                                                         RecurrentActorCriticGradT<float>*,
+                                                         RecurrentWorkspaceT<float>&);
+template PpoLossT<double> recurrent_minibatch_loss<double>(const RecurrentActorCriticT<double>&,
+                                                           const RecurrentMinibatchT<double>&,
+                                                           const PpoLossCoefficients&,
+                                                           RecurrentActorCriticGradT<double>*,
+                                                           RecurrentWorkspaceT<double>&);
+
+int sequences_per_minibatch(const PpoConfig& config, int n_envs) {
+  return std::clamp(config.batch_size / std::max(config.n_steps, 1), 1, std::max(n_envs, 1));
+}
+
+PpoStats recurrent_ppo_update(RecurrentActorCritic& model, Adam& optimizer, const RolloutBuffer& buffer,
+                              const RecurrentState& initial_state, const PpoConfig& config,
+                              std::int64_t num_timesteps, Rng& rng) {
+  validate(config);
+  if (!buffer.full()) throw std::logic_error("recurrent_ppo_update: rollout buffer is not full");
+  const int n_envs = buffer.n_envs(), steps = buffer.n_steps();
+  const Eigen::Index h = model.gru_hidden();
+  if (initial_state.actor.rows() != h || initial_state.actor.cols() != n_envs ||
+      initial_state.critic.rows() != h || initial_state.critic.cols() != n_envs)
+    throw std::invalid_argument("recurrent_ppo_update: one initial state column per environment expected");
+  PpoStats stats;
+  stats.ent_coef = entropy_coef_at(config, num_timesteps);
+  const double lr = learning_rate_at(config, num_timesteps);
+  stats.explained_variance = explained_variance(buffer.values(), buffer.returns());
+  const PpoLossCoefficients coefs{config.clip_range, stats.ent_coef, config.vf_coef, config.normalize_advantage};
+  const int per_batch = sequences_per_minibatch(config, n_envs);
+
+  std::vector<int> perm(static_cast<std::size_t>(n_envs));
+  RecurrentMinibatchT<float> mb;
+  mb.steps = steps;
+  RecurrentWorkspaceT<float> ws;
+  RecurrentActorCritic::Grad grad = model.zero_grad();
+  const auto blocks = model.adam_blocks(grad);
+  double sum_pg = 0, sum_v = 0, sum_ent = 0, sum_kl = 0, sum_clip = 0, sum_norm = 0;
+  int n_losses = 0, n_kl = 0;
+
+  for (int epoch = 0; epoch < config.n_epochs && !stats.early_stopped; ++epoch) {
+    ++stats.epochs_done;
+    sum_kl = 0;  // the logged approx_kl is the last epoch's (as ppo_update)
+    n_kl = 0;
+    std::iota(perm.begin(), perm.end(), 0);
+    for (int i = n_envs - 1; i > 0; --i)  // Fisher-Yates over the environments
+      std::swap(perm[static_cast<std::size_t>(i)], perm[rng.uniform_index(static_cast<std::uint64_t>(i) + 1)]);
+    for (int start = 0; start < n_envs; start += per_batch) {
+      const int b = std::min(per_batch, n_envs - start);
+      const Eigen::Index cols = Eigen::Index{b} * steps;
+      PpoMinibatchT<float>& s = mb.samples;
+      s.obs.resize(buffer.obs_dim(), cols);
+      s.actions.resize(buffer.act_dim(), cols);
+      s.old_log_prob.resize(cols);
+      s.advantages.resize(cols);
+      s.returns.resize(cols);
+      mb.starts.resize(cols);
+      mb.h0_actor.resize(h, b);
+      mb.h0_critic.resize(h, b);
+      for (int j = 0; j < b; ++j) {
+        const int e = perm[static_cast<std::size_t>(start + j)];
+        mb.h0_actor.col(j) = initial_state.actor.col(e);
+        mb.h0_critic.col(j) = initial_state.critic.col(e);
+        for (int t = 0; t < steps; ++t) {
+          const Eigen::Index k = Eigen::Index{t} * n_envs + e, c = Eigen::Index{t} * b + j;
+          s.obs.col(c) = buffer.observations().col(k);
+          s.actions.col(c) = buffer.actions().col(k);
+          s.old_log_prob(c) = buffer.log_probs()(k);
+          s.advantages(c) = buffer.advantages()(k);
+          s.returns(c) = buffer.returns()(k);
+          mb.starts(c) = buffer.episode_starts()(k);
+        }
+      }
+      const PpoLossT<float> l = recurrent_minibatch_loss<float>(model, mb, coefs, &grad, ws);
+      sum_pg += l.pg_loss;
+      sum_v += l.value_loss;
+      sum_ent += l.entropy_loss;
+      sum_kl += l.approx_kl;
+      ++n_kl;
+      sum_clip += l.clip_fraction;
+      ++n_losses;
+      stats.loss = l.loss;
+      if (config.target_kl && l.approx_kl > 1.5 * *config.target_kl) {
+        stats.early_stopped = true;  // this minibatch is not applied
+        break;
+      }
+      const double norm = std::sqrt(l.grad_squared_norm);
+      sum_norm += norm;
+      const double clip_coef = config.max_grad_norm / (norm + 1e-6);
+      optimizer.step(blocks, lr, std::min(clip_coef, 1.0));
+      apply_log_std_floor(config, model.log_std());
+      ++stats.minibatches_applied;
+    }
+  }
+  if (n_losses > 0) {
+    stats.pg_loss = sum_pg / n_losses;
+    stats.value_loss = sum_v / n_losses;
+    stats.entropy_loss = sum_ent / n_losses;
+    stats.approx_kl = sum_kl / n_kl;
+    stats.clip_fraction = sum_clip / n_losses;
+  }
+  if (stats.minibatches_applied > 0) stats.grad_norm = sum_norm / stats.minibatches_applied;
+  return stats;
+}
+
+}  // namespace codesign::rl
