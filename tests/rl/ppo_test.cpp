@@ -161,9 +161,9 @@ TEST(PpoLoss, ValueLossEntropyAndKlMatchDefinitions) {
   EXPECT_NEAR(l.loss, l.pg_loss + 0.03 * l.entropy_loss + 0.7 * l.value_loss, 1e-12);
 }
 
-// A full buffer of 5 steps x 2 envs (10 samples) from a small float model.
+// A full buffer of 5 steps x 2 envs (10 samples) from a small float model with 2 inputs.
 RolloutBuffer make_buffer(const ActorCritic& model, float log_prob_shift, Rng& rng) {
-  RolloutBuffer buf(5, 2, 2, 1);
+  RolloutBuffer buf(5, 2, 2, model.act_dim());
   for (int t = 0; t < 5; ++t) {
     Eigen::MatrixXf obs(2, 2);
     for (Eigen::Index i = 0; i < obs.size(); ++i) obs(i) = static_cast<float>(rng.normal());
@@ -382,18 +382,7 @@ TEST(PpoUpdate, LogStdFloorIsKeptAfterEveryStep) {
   Rng rng(3);
   ActorCritic model(2, 4, {8}, {8});
   model.init_orthogonal(rng);
-  RolloutBuffer buf(5, 2, 2, 4);
-  for (int t = 0; t < 5; ++t) {
-    Eigen::MatrixXf obs(2, 2);
-    for (Eigen::Index i = 0; i < obs.size(); ++i) obs(i) = static_cast<float>(rng.normal());
-    const auto a = model.act(obs, rng);
-    Eigen::RowVectorXf r(2);
-    r << static_cast<float>(rng.normal()), static_cast<float>(rng.normal());
-    buf.add(obs, a.actions, r, Eigen::RowVectorXf::Constant(2, t == 0 ? 1.f : 0.f), a.values,
-            a.log_probs);
-  }
-  buf.compute_returns_and_advantage(Eigen::RowVectorXf::Zero(2), Eigen::RowVectorXf::Zero(2),
-                                    0.99, 0.95);
+  const RolloutBuffer buf = make_buffer(model, 0.0f, rng);
   PpoConfig cfg;
   cfg.batch_size = 4;
   cfg.n_epochs = 5;

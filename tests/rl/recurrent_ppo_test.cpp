@@ -294,8 +294,10 @@ TEST(RecurrentPpoUpdate, KlEarlyStopAndMinibatchesOfWholeSequences) {
   EXPECT_THROW(recurrent_ppo_update(model, adam, fresh, model.zero_state(4), cfg, 0, rng), std::invalid_argument);
 }
 
-// The log-std floor (PpoConfig::log_std_min) holds after every recurrent update step too: the
-// unfloored update drives log_std below 0 (checked first), the floored one stops at 0 exactly.
+// The log-std floor (PpoConfig::log_std_min) holds after every recurrent update step too. One
+// step (one epoch, one minibatch of all 5 sequences): the unfloored step takes log_std below 0
+// (checked first, so the test can fail), the floored one leaves it at 0 exactly. Five epochs of
+// minibatches: never below the floor, and the floor changed the trajectory.
 TEST(RecurrentPpoUpdate, LogStdFloorIsKept) {
   Rng rng(5);
   RecurrentActorCritic model(2, 1, 4, {8}, {8});
@@ -303,21 +305,25 @@ TEST(RecurrentPpoUpdate, LogStdFloorIsKept) {
   const RolloutBuffer buf = recurrent_buffer(model, 0.0f, rng);
   PpoConfig cfg;
   cfg.n_steps = 4;
-  cfg.batch_size = 8;
-  cfg.n_epochs = 5;
   cfg.learning_rate = 0.05;
   cfg.ent_coef = 0.0;
-  auto run = [&](std::optional<double> floor) {
+  auto run = [&](std::optional<double> floor, int epochs, int batch) {
     RecurrentActorCritic m = model;
     PpoConfig c = cfg;
     c.log_std_min = floor;
+    c.n_epochs = epochs;
+    c.batch_size = batch;
     Adam adam = make_adam(c);
     Rng r(9);
     recurrent_ppo_update(m, adam, buf, m.zero_state(5), c, 0, r);
     return m;
   };
-  ASSERT_LT(run(std::nullopt).log_std().minCoeff(), -0.01f) << "the update must push below the floor";
-  EXPECT_EQ(run(0.0).log_std().minCoeff(), 0.0f);
+  ASSERT_LT(run(std::nullopt, 1, 20).log_std().minCoeff(), -0.01f) << "the step must push below the floor";
+  EXPECT_EQ(run(0.0, 1, 20).log_std().minCoeff(), 0.0f);
+  const RecurrentActorCritic free = run(std::nullopt, 5, 8), floored = run(0.0, 5, 8);
+  ASSERT_LT(free.log_std().minCoeff(), -0.01f);
+  EXPECT_GE(floored.log_std().minCoeff(), 0.0f);
+  EXPECT_NE(floored.actor_gru().params(), free.actor_gru().params());
 }
 
 }  // namespace
