@@ -5,17 +5,9 @@
 #include <string>
 
 #include "rl/gaussian.hpp"
+#include "rl/layer_sizes.hpp"
 
 namespace codesign::rl {
-
-namespace {
-std::vector<int> layer_sizes(int in, const std::vector<int>& hidden, int out) {
-  std::vector<int> sizes{in};
-  sizes.insert(sizes.end(), hidden.begin(), hidden.end());
-  sizes.push_back(out);
-  return sizes;
-}
-}  // namespace
 
 template <class S>
 ActorCriticT<S>::ActorCriticT(int obs_dim, int act_dim, const std::vector<int>& actor_hidden,

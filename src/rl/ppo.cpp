@@ -9,6 +9,7 @@
 #include <string>
 
 #include "rl/gaussian.hpp"
+#include "rl/ppo_stats_sum.hpp"
 
 namespace codesign::rl {
 
@@ -240,13 +241,11 @@ PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& bu
   PpoWorkspaceT<float> ws;
   ActorCriticGrad grad = model.zero_grad();
   const auto blocks = model.adam_blocks(grad);
-  double sum_pg = 0, sum_v = 0, sum_ent = 0, sum_kl = 0, sum_clip = 0, sum_norm = 0;
-  int n_losses = 0, n_kl = 0;
+  PpoStatsSum sums;
 
   for (int epoch = 0; epoch < config.n_epochs && !stats.early_stopped; ++epoch) {
     ++stats.epochs_done;
-    sum_kl = 0;  // SB3 resets approx_kl_divs every epoch: the logged value is the last epoch's
-    n_kl = 0;
+    sums.begin_epoch();  // the logged approx_kl is the last epoch's (SB3)
     std::iota(perm.begin(), perm.end(), Eigen::Index{0});
     for (Eigen::Index i = n - 1; i > 0; --i)  // Fisher-Yates
       std::swap(perm[static_cast<std::size_t>(i)],
@@ -272,20 +271,14 @@ PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& bu
       ws.actor_pending = nullptr;
       ws.critic_pending = nullptr;
       ws.log_std_pending = nullptr;
-      sum_pg += l.pg_loss;
-      sum_v += l.value_loss;
-      sum_ent += l.entropy_loss;
-      sum_kl += l.approx_kl;
-      ++n_kl;
-      sum_clip += l.clip_fraction;
-      ++n_losses;
+      sums.add(l);
       stats.loss = l.loss;
       if (config.target_kl && l.approx_kl > 1.5 * *config.target_kl) {
         stats.early_stopped = true;  // this minibatch is not applied (SB3 breaks before step)
         break;
       }
       const double norm = std::sqrt(l.grad_squared_norm);
-      sum_norm += norm;
+      sums.norm += norm;
       const double clip_coef = config.max_grad_norm / (norm + 1e-6);
       // clip_grad_norm_ scales by clip_coef when it is < 1; Adam applies the factor as it reads
       // each gradient (one pass over memory instead of two).
@@ -308,14 +301,7 @@ PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& bu
     for (std::size_t i = 0; i < blocks.size(); ++i) optimizer.apply(blocks, i, 0, blocks[i].size);
     apply_log_std_floor(config, model.log_std());
   }
-  if (n_losses > 0) {
-    stats.pg_loss = sum_pg / n_losses;
-    stats.value_loss = sum_v / n_losses;
-    stats.entropy_loss = sum_ent / n_losses;
-    stats.approx_kl = sum_kl / n_kl;
-    stats.clip_fraction = sum_clip / n_losses;
-  }
-  if (stats.minibatches_applied > 0) stats.grad_norm = sum_norm / stats.minibatches_applied;
+  sums.finish(stats);
   return stats;
 }
 

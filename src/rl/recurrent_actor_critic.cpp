@@ -4,17 +4,9 @@
 #include <string>
 
 #include "rl/gaussian.hpp"
+#include "rl/layer_sizes.hpp"
 
 namespace codesign::rl {
-
-namespace {
-std::vector<int> head_sizes(int in, const std::vector<int>& hidden, int out) {
-  std::vector<int> sizes{in};
-  sizes.insert(sizes.end(), hidden.begin(), hidden.end());
-  sizes.push_back(out);
-  return sizes;
-}
-}  // namespace
 
 template <class S>
 RecurrentActorCriticT<S>::RecurrentActorCriticT(int obs_dim, int act_dim, int gru_hidden,
@@ -22,9 +14,9 @@ RecurrentActorCriticT<S>::RecurrentActorCriticT(int obs_dim, int act_dim, int gr
                                                 const std::vector<int>& critic_hidden, S log_std_init,
                                                 int privileged_dim)
     : actor_gru_(obs_dim, gru_hidden),
-      actor_(head_sizes(gru_hidden, actor_hidden, act_dim)),
+      actor_(layer_sizes(gru_hidden, actor_hidden, act_dim)),
       critic_gru_(obs_dim + privileged_dim, gru_hidden),
-      critic_(head_sizes(gru_hidden, critic_hidden, 1)),
+      critic_(layer_sizes(gru_hidden, critic_hidden, 1)),
       log_std_(Vec::Constant(act_dim, log_std_init)),
       log_std_init_(log_std_init) {
   if (privileged_dim < 0) throw std::invalid_argument("RecurrentActorCritic: negative privileged_dim");

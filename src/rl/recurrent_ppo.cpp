@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "rl/ppo_stats_sum.hpp"
+
 namespace codesign::rl {
 
 template <class S>
@@ -80,13 +82,11 @@ PpoStats recurrent_ppo_update(RecurrentActorCritic& model, Adam& optimizer, cons
   RecurrentWorkspaceT<float> ws;
   RecurrentActorCritic::Grad grad = model.zero_grad();
   const auto blocks = model.adam_blocks(grad);
-  double sum_pg = 0, sum_v = 0, sum_ent = 0, sum_kl = 0, sum_clip = 0, sum_norm = 0;
-  int n_losses = 0, n_kl = 0;
+  PpoStatsSum sums;
 
   for (int epoch = 0; epoch < config.n_epochs && !stats.early_stopped; ++epoch) {
     ++stats.epochs_done;
-    sum_kl = 0;  // the logged approx_kl is the last epoch's (as ppo_update)
-    n_kl = 0;
+    sums.begin_epoch();  // the logged approx_kl is the last epoch's (SB3)
     std::iota(perm.begin(), perm.end(), 0);
     for (int i = n_envs - 1; i > 0; --i)  // Fisher-Yates over the environments
       std::swap(perm[static_cast<std::size_t>(i)], perm[rng.uniform_index(static_cast<std::uint64_t>(i) + 1)]);
@@ -117,34 +117,21 @@ PpoStats recurrent_ppo_update(RecurrentActorCritic& model, Adam& optimizer, cons
         }
       }
       const PpoLossT<float> l = recurrent_minibatch_loss<float>(model, mb, coefs, &grad, ws);
-      sum_pg += l.pg_loss;
-      sum_v += l.value_loss;
-      sum_ent += l.entropy_loss;
-      sum_kl += l.approx_kl;
-      ++n_kl;
-      sum_clip += l.clip_fraction;
-      ++n_losses;
+      sums.add(l);
       stats.loss = l.loss;
       if (config.target_kl && l.approx_kl > 1.5 * *config.target_kl) {
         stats.early_stopped = true;  // this minibatch is not applied
         break;
       }
       const double norm = std::sqrt(l.grad_squared_norm);
-      sum_norm += norm;
+      sums.norm += norm;
       const double clip_coef = config.max_grad_norm / (norm + 1e-6);
       optimizer.step(blocks, lr, std::min(clip_coef, 1.0));
       apply_log_std_floor(config, model.log_std());
       ++stats.minibatches_applied;
     }
   }
-  if (n_losses > 0) {
-    stats.pg_loss = sum_pg / n_losses;
-    stats.value_loss = sum_v / n_losses;
-    stats.entropy_loss = sum_ent / n_losses;
-    stats.approx_kl = sum_kl / n_kl;
-    stats.clip_fraction = sum_clip / n_losses;
-  }
-  if (stats.minibatches_applied > 0) stats.grad_norm = sum_norm / stats.minibatches_applied;
+  sums.finish(stats);
   return stats;
 }
 
