@@ -28,6 +28,7 @@ void add_check_command(CLI::App& root, Runner& run);      // cmd_check.cpp
 void add_baseline_command(CLI::App& root, Runner& run);   // cmd_baseline.cpp (`baseline pid`)
 void add_sweep_command(CLI::App& root, Runner& run);      // cmd_sweep.cpp
 void add_refine_command(CLI::App& root, Runner& run);     // cmd_refine.cpp
+void add_evaluate_command(CLI::App& root, Runner& run);   // cmd_evaluate.cpp
 // `codesign bench <what>`: main.cpp creates the `bench` parent.
 void add_bench_fem_command(CLI::App& bench, Runner& run);  // bench_fem.cpp
 void add_bench_ppo_command(CLI::App& bench, Runner& run);  // bench_ppo.cpp

@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
   app::add_baseline_command(root, run);
   app::add_sweep_command(root, run);
   app::add_refine_command(root, run);
+  app::add_evaluate_command(root, run);
   CLI::App* bench = root.add_subcommand("bench", "Speed benchmarks that print figures and ratios");
   bench->require_subcommand(1);
   app::add_bench_fem_command(*bench, run);

@@ -91,6 +91,10 @@ class Reader {
 
 }  // namespace
 
+std::vector<KeptCheckpoint> kept_checkpoints(const CodesignConfig& c) {
+  return {{c.exploration_end, "t1", "checkpoint_t1.bin"}, {c.exploitation_start, "t2", "checkpoint_t2.bin"}};
+}
+
 std::uint64_t fingerprint(const std::string& text) {
   return rl::fnv1a64(std::span<const unsigned char>(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
 }

@@ -24,6 +24,7 @@
 #include <map>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "codesign/outer_loop.hpp"
 
@@ -44,6 +45,17 @@ Checkpoint load_checkpoint(const std::string& path, std::uint64_t expected_finge
 // The same from the bytes of a checkpoint file; `label` names the source in messages.
 Checkpoint parse_checkpoint(std::span<const unsigned char> bytes, const std::string& label,
                             std::uint64_t expected_fingerprint);
+
+// The checkpoints a run keeps besides checkpoint.bin: the state after the first iteration that
+// reaches T1 (exploration_end) and T2 (exploitation_start), as checkpoint_t1.bin and
+// checkpoint_t2.bin (`codesign evaluate --at t1|t2` reads them). A time that is not inside
+// (0, total_timesteps] is never reached after an iteration and so not kept.
+struct KeptCheckpoint {
+  std::int64_t t = 0;
+  std::string name;   // "t1" or "t2"
+  std::string file;   // its file name in the run folder
+};
+std::vector<KeptCheckpoint> kept_checkpoints(const CodesignConfig& c);
 
 // FNV-1a 64 of a text (the config fingerprint).
 std::uint64_t fingerprint(const std::string& text);

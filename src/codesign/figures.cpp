@@ -95,12 +95,7 @@ Histogram histogram(const std::vector<std::vector<double>>& samples, std::size_t
 
 namespace {
 
-std::string design_label(int j) {
-  const fem::Design d = fem::design_from_index(j);
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "j%d {%d, %g mm, %g mm}", j, d.n, d.chamber_length_mm, d.wall_mm);
-  return buf;
-}
+using fem::design_label;
 
 int design_cell(const io::CsvTable& t, std::size_t r, std::size_t c) {
   const std::int64_t j = t.integer(r, c);

@@ -43,12 +43,7 @@ std::string num(double v) { return CsvLog::num(v); }
 std::string num(std::int64_t v) { return CsvLog::num(v); }
 std::string num(int v) { return CsvLog::num(static_cast<std::int64_t>(v)); }
 
-std::string design_label(int j) {
-  const fem::Design d = fem::design_from_index(j);
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "j%d {%d, %g mm, %g mm}", j, d.n, d.chamber_length_mm, d.wall_mm);
-  return buf;
-}
+using fem::design_label;
 
 // The run's logs, created or resumed together.
 struct Logs {
@@ -395,6 +390,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   }
   if (fresh) {
     for (const char* f : {"checkpoint.bin", "result.toml", "policy.bin"}) fs::remove(dir / f, ec);
+    for (const KeptCheckpoint& kc : kept_checkpoints(settings.loop.codesign)) fs::remove(dir / kc.file, ec);
     io::write_file_atomically((dir / "config.toml").string(), [&](std::ostream& out) { out << resolved; });
     if (!options.resume)
       io::write_file_atomically((dir / "config.input.toml").string(),
@@ -444,12 +440,16 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   const bool tty = options.progress && ::isatty(::fileno(stdout));
   double last_print = -1e9;
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(); };
-  auto checkpoint = [&] {
+  // keep: also write the same state to this file (the copies kept at T1 and T2, which
+  // `codesign evaluate --at` reads); written before checkpoint.bin so a kill between the two
+  // leaves a checkpoint.bin that still precedes the crossing and so writes the copy again.
+  auto checkpoint = [&](const fs::path& keep = {}) {
     Checkpoint k;
     k.config_fingerprint = fp;
     k.wall_s = wall_before + elapsed();
     k.loop = loop.state();
     k.logs = logs.flush();
+    if (!keep.empty()) save_checkpoint(keep.string(), k);
     save_checkpoint(ckpt_path.string(), k);
   };
   std::int64_t last_ckpt = loop.timesteps();
@@ -469,7 +469,8 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     return result;
   };
   while (!loop.finished()) {
-    iteration_start_t.store(loop.timesteps(), std::memory_order_relaxed);
+    const std::int64_t t_before = loop.timesteps();
+    iteration_start_t.store(t_before, std::memory_order_relaxed);
     const IterationReport rep = loop.iterate();
     const double el = elapsed();
     const double rate = static_cast<double>(rep.t - t0) / std::max(el, 1e-9);
@@ -480,8 +481,12 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
       const PublishMeter::Scope timed(meter, static_cast<std::int64_t>(rep.episodes.size()) + 2);
       publish_iteration(*telemetry, rep, summary, rate);
     }
-    if (rep.t - last_ckpt >= c.checkpoint_every || loop.finished()) {
-      checkpoint();
+    // The first iteration to reach T1 or T2 is kept in a file of its own as well.
+    fs::path keep;
+    for (const KeptCheckpoint& kc : kept_checkpoints(c))
+      if (t_before < kc.t && rep.t >= kc.t) keep = dir / kc.file;
+    if (!keep.empty() || rep.t - last_ckpt >= c.checkpoint_every || loop.finished()) {
+      checkpoint(keep);
       last_ckpt = rep.t;
     }
     if (options.progress && (el - last_print >= (tty ? 0.5 : 10.0) || loop.finished())) {

@@ -1,6 +1,7 @@
 #include "fem/design.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -19,6 +20,13 @@ int grid_position(double v, double lo, double step, int count) {
 }
 
 }  // namespace
+
+std::string design_label(int j) {
+  const Design d = design_from_index(j);
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "j%d {%d, %g mm, %g mm}", j, d.n, d.chamber_length_mm, d.wall_mm);
+  return buf;
+}
 
 Design design_from_index(int j) {
   if (j < 0 || j >= kDesignCount) {

@@ -8,6 +8,7 @@
 // Index (0-based, n outermost, then l, then w):  j = (n-1)*55 + (l-20)/2*5 + (w-2)/0.5.
 // The paper's two best designs: j21 = {1, 28, 2.5}, j63 = {2, 22, 3.5}.
 #include <array>
+#include <string>
 
 namespace codesign::fem {
 
@@ -26,6 +27,9 @@ Design design_from_index(int j);
 // Inverse of design_from_index. A design that is not on the grid (n not 1/2, l or w off the grid
 // by more than 1e-9 mm, or out of range) throws std::invalid_argument.
 int index_of(const Design& d);
+// "j35 {1, 34 mm, 2 mm}": the index and {n, l, w} as run output and figures name a design.
+// j outside 0..109: std::out_of_range.
+std::string design_label(int j);
 // (n, l, w) each mapped linearly from its range onto [-1, 1] (n: 1 → -1, 2 → +1).
 std::array<double, 3> normalised(const Design& d);
 

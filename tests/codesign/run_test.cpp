@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "base/errors.hpp"
+#include "codesign/checkpoint.hpp"
 #include "codesign/design_sweep.hpp"
 #include "codesign/policy_controller.hpp"
 #include "codesign/run.hpp"
@@ -114,6 +115,40 @@ TEST(Run, ResumedRunEndsIdentically) {
   EXPECT_EQ(result_without_wall(a), result_without_wall(b));
   EXPECT_EQ(slurp(a / "episodes.csv"), slurp(b / "episodes.csv"));
   EXPECT_EQ(slurp(a / "q_disc.csv"), slurp(b / "q_disc.csv"));
+}
+
+// The states after the iterations that reach T1 and T2 are kept beside checkpoint.bin, each the
+// same state as the checkpoint of a run stopped there; a fresh run removes an earlier run's.
+TEST(Run, KeepsTheCheckpointsAtT1AndT2) {
+  const fs::path a = fresh_dir("kept");
+  ASSERT_TRUE(run_codesign(test::tiny_run(), opts(a)).completed);
+  const std::uint64_t fp = fingerprint(slurp(a / "config.toml"));
+  const std::vector<KeptCheckpoint> kept = kept_checkpoints(test::tiny_run().loop.codesign);
+  ASSERT_EQ(kept.size(), 2u);
+  for (const KeptCheckpoint& kc : kept) {
+    SCOPED_TRACE(kc.file);
+    const fs::path b = fresh_dir("kept_stop_" + kc.name);
+    RunOptions o = opts(b);
+    o.stop_after = kc.t;
+    ASSERT_FALSE(run_codesign(test::tiny_run(), o).completed);
+    const Checkpoint k = load_checkpoint((a / kc.file).string(), fp);
+    const Checkpoint s = load_checkpoint((b / "checkpoint.bin").string(), fp);
+    EXPECT_EQ(k.loop.t, kc.t);  // tiny_run's T1 = 40 and T2 = 80 end an iteration of 20
+    EXPECT_EQ(k.loop.t, s.loop.t);
+    EXPECT_EQ(k.loop.k, s.loop.k);
+    EXPECT_TRUE(k.loop.actor == s.loop.actor);
+    EXPECT_TRUE(k.loop.critic == s.loop.critic);
+    EXPECT_EQ(k.loop.rng_design, s.loop.rng_design);
+    EXPECT_TRUE(k.loop.distribution.score == s.loop.distribution.score);
+    // (the logs' byte lengths may differ: ppo.csv holds wall times)
+    EXPECT_EQ(k.logs.size(), s.logs.size());
+  }
+  // --force starts afresh: a run stopped before T1 leaves no kept file of the earlier run.
+  RunOptions o = opts(a);
+  o.force = true;
+  o.stop_after = 20;
+  ASSERT_FALSE(run_codesign(test::tiny_run(), o).completed);
+  for (const KeptCheckpoint& kc : kept) EXPECT_FALSE(fs::exists(a / kc.file)) << kc.file;
 }
 
 // Memory and observation normalisation carry through checkpoint (version 2), resume, policy

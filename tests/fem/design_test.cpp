@@ -57,3 +57,13 @@ TEST(Design, NormalisedSpansMinusOneToOne) {
   EXPECT_DOUBLE_EQ(j21[1], 2.0 * 8 / 20 - 1);
   EXPECT_DOUBLE_EQ(j21[2], 2.0 * 0.5 / 2 - 1);
 }
+
+// The labels the run's output and figures print: the paper's two designs (Table III), and the
+// ends of the grid.
+TEST(Design, LabelNamesIndexAndGeometry) {
+  EXPECT_EQ(design_label(21), "j21 {1, 28 mm, 2.5 mm}");
+  EXPECT_EQ(design_label(63), "j63 {2, 22 mm, 3.5 mm}");
+  EXPECT_EQ(design_label(0), "j0 {1, 20 mm, 2 mm}");
+  EXPECT_EQ(design_label(109), "j109 {2, 40 mm, 4 mm}");
+  EXPECT_THROW(design_label(110), std::out_of_range);
+}

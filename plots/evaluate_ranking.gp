@@ -1,0 +1,21 @@
+# `codesign evaluate`: the designs of a run's state ranked by the test return of its
+# deterministic policy, each with its 95 % interval over the plate phases; d* (the state's
+# leading design) and the runner-up marked.
+#
+# Set on the command line (codesign evaluate does it; docs/codesign.md, "Evaluating a run"):
+#   datafile   ranking.dat (columns rank, mean_return, ci95, design, role: 0 other, 1 d*, 2 runner-up)
+#   outfile    the PNG to write
+#   title      the figure's title
+#   plotsdir   the folder of this script (for style.gp)
+load plotsdir.'/style.gp'
+set output outfile
+set title title
+set xlabel 'rank by test return (1 = best)'
+set ylabel 'test return (max 50), mean ± 95 % interval'
+set yrange [*:50]
+set offsets 0.5, 0.5, 0, 0
+set key top right
+plot datafile using 1:2:3 with yerrorbars pt 7 ps 0.5 lc rgb c_other title 'design', \
+     datafile using 1:($5 == 1 ? $2 : NaN):3 with yerrorbars pt 7 ps 1.4 lc rgb c_best title 'd*', \
+     datafile using 1:($5 == 2 ? $2 : NaN):3 with yerrorbars pt 5 ps 1.2 lc rgb c_runner title 'runner-up', \
+     datafile using 1:($5 > 0 ? $2 : NaN):(sprintf(' j%d', $4)) with labels left offset 1,0 notitle
