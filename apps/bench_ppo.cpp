@@ -11,7 +11,9 @@
 // overrides). Baselines in the same run: the same iteration with float32 products (rl::sgemm)
 // and with Eigen's products only; on the dominant GEMM shape, Eigen, rl::sgemm, rl::gemm_bf16
 // and a textbook triple loop; and one minibatch pass in float64 (Eigen). Beside it, the same
-// iteration with the recurrent policy (ppo.policy = "gru", --gru-hidden units).
+// iteration with the recurrent policy (ppo.policy = "gru", --gru-hidden units), and the update of
+// both policies with the actor's and the critic's passes side by side on 2 threads against 1
+// (wall time; needs two idle cores to mean anything).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -125,6 +127,7 @@ struct BenchOptions {
   int hidden = 512;
   bool with_kl = true;
   int gru_hidden = 64;  // the recurrent policy's iteration beside the MLP's; 0: skipped
+  bool update_threads = true;  // the update on 2 threads (actor | critic) against 1
   std::string precision = "auto";  // auto | float32 | bf16
 };
 
@@ -141,7 +144,7 @@ struct IterationTimes {
 
 // One synthetic iteration: forward passes of the rollout, GAE, PPO update.
 IterationTimes run_iteration(rl::ActorCritic& model, rl::Adam& adam, const rl::PpoConfig& cfg,
-                             int n_envs, rl::Rng& rng) {
+                             int n_envs, rl::Rng& rng, rl::ThreadPool* pool = nullptr) {
   IterationTimes t;
   rl::RolloutBuffer buffer(cfg.n_steps, n_envs, model.obs_dim(), model.act_dim());
   Eigen::MatrixXf obs(model.obs_dim(), n_envs);
@@ -164,7 +167,7 @@ IterationTimes run_iteration(rl::ActorCritic& model, rl::Adam& adam, const rl::P
                                        cfg.gae_lambda);
   t.gae = seconds_since(t0);
   t0 = Clock::now();
-  t.stats = rl::ppo_update(model, adam, buffer, cfg, 0, rng);
+  t.stats = rl::ppo_update(model, adam, buffer, cfg, 0, rng, true, pool);
   t.update = seconds_since(t0);
   t.cpu = thread_cpu_seconds() - cpu0;
   return t;
@@ -174,7 +177,7 @@ IterationTimes run_iteration(rl::ActorCritic& model, rl::Adam& adam, const rl::P
 // decision in the rollout (episode starts at step 0), then recurrent_ppo_update over whole env
 // columns (batch_size / n_steps columns per minibatch).
 IterationTimes run_recurrent_iteration(rl::RecurrentActorCritic& model, rl::Adam& adam, const rl::PpoConfig& cfg,
-                                       int n_envs, rl::Rng& rng) {
+                                       int n_envs, rl::Rng& rng, rl::ThreadPool* pool = nullptr) {
   IterationTimes t;
   rl::RolloutBuffer buffer(cfg.n_steps, n_envs, model.obs_dim(), model.act_dim());
   Eigen::MatrixXf obs(model.obs_dim(), n_envs);
@@ -197,7 +200,7 @@ IterationTimes run_recurrent_iteration(rl::RecurrentActorCritic& model, rl::Adam
   buffer.compute_returns_and_advantage(last_values, Eigen::RowVectorXf::Zero(n_envs), cfg.gamma, cfg.gae_lambda);
   t.gae = seconds_since(t0);
   t0 = Clock::now();
-  t.stats = rl::recurrent_ppo_update(model, adam, buffer, initial, cfg, 0, rng);
+  t.stats = rl::recurrent_ppo_update(model, adam, buffer, initial, cfg, 0, rng, pool);
   t.update = seconds_since(t0);
   t.cpu = thread_cpu_seconds() - cpu0;
   return t;
@@ -359,6 +362,59 @@ int run_bench(const BenchOptions& o) {
                 static_cast<long long>(gru.actor_gru().num_params() + gru.critic_gru().num_params()));
   }
 
+  if (o.update_threads) {
+    // The update with the actor's and the critic's passes side by side on two threads (as a
+    // co-design run does on its rollout threads), against one thread, from the same state and
+    // seeds: wall times (a thread's CPU time no longer covers the work) and whether the trained
+    // parameters are the same to the bit.
+    auto pair_run = [&](auto make_model, auto iterate, const char* what) {
+      auto one = make_model(), two = make_model();
+      rl::Adam adam_1 = rl::make_adam(cfg), adam_2 = rl::make_adam(cfg);
+      rl::ThreadPool pool(2);
+      rl::Rng w1(99), w2(99);
+      iterate(one, adam_1, w1, nullptr);  // warm-up
+      iterate(two, adam_2, w2, &pool);
+      std::vector<double> u1, u2;
+      for (int r = 0; r < base_reps; ++r) {
+        rl::Rng r1(100 + r), r2(100 + r);
+        u1.push_back(iterate(one, adam_1, r1, nullptr).update);
+        u2.push_back(iterate(two, adam_2, r2, &pool).update);
+      }
+      const bool same = one.actor().params() == two.actor().params() && one.critic().params() == two.critic().params();
+      std::printf("\n  %s: update with actor and critic side by side on 2 threads, median of %d (wall):\n", what,
+                  base_reps);
+      std::printf("    update         %.3f s on 2 threads vs %.3f s on 1 -> %.2fx faster; parameters after %d "
+                  "iterations %s\n",
+                  median(u2), median(u1), median(u1) / median(u2), base_reps + 1,
+                  same ? "identical to the bit" : "DIFFER (a bug)");
+    };
+    pair_run(
+        [&] {
+          rl::Rng init(2024);
+          rl::ActorCritic m(6, 1, cfg.actor_hidden, cfg.critic_hidden);
+          m.init_orthogonal(init);
+          m.set_matmul_precision(precision);
+          return m;
+        },
+        [&](rl::ActorCritic& m, rl::Adam& a, rl::Rng& r, rl::ThreadPool* p) {
+          return run_iteration(m, a, cfg, o.n_envs, r, p);
+        },
+        "MLP");
+    if (o.gru_hidden > 0)
+      pair_run(
+          [&] {
+            rl::Rng init(2024);
+            rl::RecurrentActorCritic m(6, 1, o.gru_hidden, cfg.actor_hidden, cfg.critic_hidden);
+            m.init(init);
+            m.set_matmul_precision(precision);
+            return m;
+          },
+          [&](rl::RecurrentActorCritic& m, rl::Adam& a, rl::Rng& r, rl::ThreadPool* p) {
+            return run_recurrent_iteration(m, a, cfg, o.n_envs, r, p);
+          },
+          "GRU");
+  }
+
   if (o.with_kl) {
     cfg.target_kl = 0.02;
     rl::Rng rng_kl(7);
@@ -455,6 +511,8 @@ void add_bench_ppo_command(CLI::App& bench, Runner& run) {
   cmd->add_option("--hidden", opts->hidden, "Width of each of the three hidden layers")
       ->check(CLI::Range(1, 8192));
   cmd->add_flag("!--no-kl-run", opts->with_kl, "Skip the extra run with target_kl 0.02");
+  cmd->add_flag("!--no-update-threads", opts->update_threads,
+                "Skip the update on 2 threads (actor and critic side by side) against 1");
   cmd->add_option("--gru-hidden", opts->gru_hidden,
                   "Units of the recurrent policy's GRUs in its iteration beside the MLP's (0: skip it)")
       ->check(CLI::Range(0, 4096));

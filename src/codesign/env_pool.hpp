@@ -46,6 +46,9 @@ class EnvPool {
   // do not change. An empty function or every <= 0: off.
   using StepObserver = std::function<void(const EpisodeSetup&, const TraceRow&)>;
   virtual void set_step_observer(std::size_t i, StepObserver observer, int every) = 0;
+  // The threads that step the environments, idle between rollouts: the PPO update borrows them
+  // for the actor's and the critic's passes side by side (results do not change). Null: none.
+  virtual rl::ThreadPool* thread_pool() { return nullptr; }
 };
 
 class ThreadEnvPool final : public EnvPool {
@@ -63,6 +66,7 @@ class ThreadEnvPool final : public EnvPool {
   double step_seconds() const override;
   void set_step_observer(std::size_t i, StepObserver observer, int every) override;
   std::size_t threads() const { return pool_.size(); }
+  rl::ThreadPool* thread_pool() override { return &pool_; }
 
  private:
   std::vector<std::unique_ptr<WhiskerEnv>> envs_;

@@ -183,9 +183,13 @@ IterationReport OuterLoop::iterate() {
   rep.collect_s = seconds_since(t_collect);
 
   const auto t_update = std::chrono::steady_clock::now();
+  // The rollout's threads are idle now: the update runs the actor and the critic side by side on
+  // them (bit-identical to one thread).
+  rl::ThreadPool* const pool = envs_->thread_pool();
   rep.ppo = recurrent_ ? rl::recurrent_ppo_update(*recurrent_, optimizer_, buffer_, gru->rollout_start_state(),
-                                                  config_.ppo, t_, update_rng_)
-                       : rl::ppo_update(model_, optimizer_, buffer_, config_.ppo, t_, update_rng_);
+                                                  config_.ppo, t_, update_rng_, pool)
+                       : rl::ppo_update(model_, optimizer_, buffer_, config_.ppo, t_, update_rng_,
+                                        /*defer_optimizer_step=*/true, pool);
   rep.learning_rate = rl::learning_rate_at(config_.ppo, t_);
   rep.update_s = seconds_since(t_update);
 

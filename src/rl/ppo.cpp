@@ -178,21 +178,32 @@ PpoLossT<S> ppo_minibatch_loss(const ActorCriticT<S>& model, const PpoMinibatchT
     throw std::invalid_argument("ppo_minibatch_loss: observations have " + std::to_string(batch.obs.rows()) +
                                 " rows, the model takes " + std::to_string(model.critic_input_dim()));
   // The actor reads the first obs_dim rows; the critic all (a privileged critic reads more).
-  const auto& mean_action =
-      model.privileged_dim() == 0
-          ? model.actor().forward(batch.obs, ws.actor_cache, ws.actor_pending ? &ws.actor_pending : nullptr)
-          : model.actor().forward(model.actor_rows(batch.obs), ws.actor_cache,
-                                  ws.actor_pending ? &ws.actor_pending : nullptr);
-  const auto& values = model.critic().forward(
-      batch.obs, ws.critic_cache, ws.critic_pending ? &ws.critic_pending : nullptr);
+  // The two networks' passes share no data: side by side when ws.pool has two threads.
+  using Mat = typename MlpT<S>::Mat;
+  const Mat* mean_action = nullptr;
+  const Mat* values = nullptr;
+  run_pair(
+      ws.pool,
+      [&] {
+        mean_action = model.privileged_dim() == 0
+                          ? &model.actor().forward(batch.obs, ws.actor_cache,
+                                                   ws.actor_pending ? &ws.actor_pending : nullptr)
+                          : &model.actor().forward(model.actor_rows(batch.obs), ws.actor_cache,
+                                                   ws.actor_pending ? &ws.actor_pending : nullptr);
+      },
+      [&] {
+        values = &model.critic().forward(batch.obs, ws.critic_cache, ws.critic_pending ? &ws.critic_pending : nullptr);
+      });
   if (ws.log_std_pending) ws.log_std_pending();
-  PpoLossT<S> out = ppo_loss_from_outputs<S>(mean_action, values, model.log_std(), batch, coefs,
+  PpoLossT<S> out = ppo_loss_from_outputs<S>(*mean_action, *values, model.log_std(), batch, coefs,
                                              grad ? &ws.outputs : nullptr);
   if (grad != nullptr) {
     grad->log_std = ws.outputs.d_log_std;
-    out.grad_squared_norm = model.actor().backward(ws.actor_cache, ws.outputs.d_mean, grad->actor) +
-                            model.critic().backward(ws.critic_cache, ws.outputs.d_value, grad->critic) +
-                            static_cast<double>(grad->log_std.squaredNorm());
+    double actor_sq = 0.0, critic_sq = 0.0;
+    run_pair(
+        ws.pool, [&] { actor_sq = model.actor().backward(ws.actor_cache, ws.outputs.d_mean, grad->actor); },
+        [&] { critic_sq = model.critic().backward(ws.critic_cache, ws.outputs.d_value, grad->critic); });
+    out.grad_squared_norm = actor_sq + critic_sq + static_cast<double>(grad->log_std.squaredNorm());
   }
   return out;
 }
@@ -225,7 +236,7 @@ double explained_variance(const Eigen::RowVectorXf& y_pred, const Eigen::RowVect
 
 PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& buffer,
                     const PpoConfig& config, std::int64_t num_timesteps, Rng& rng,
-                    bool defer_optimizer_step) {
+                    bool defer_optimizer_step, ThreadPool* pool) {
   validate(config);
   if (!buffer.full()) throw std::logic_error("ppo_update: rollout buffer is not full");
   const Eigen::Index n = buffer.size();
@@ -239,6 +250,7 @@ PpoStats ppo_update(ActorCritic& model, Adam& optimizer, const RolloutBuffer& bu
   std::vector<Eigen::Index> perm(static_cast<std::size_t>(n));
   PpoMinibatchT<float> mb;
   PpoWorkspaceT<float> ws;
+  ws.pool = pool;
   ActorCriticGrad grad = model.zero_grad();
   const auto blocks = model.adam_blocks(grad);
   PpoStatsSum sums;

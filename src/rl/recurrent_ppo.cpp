@@ -23,23 +23,40 @@ PpoLossT<S> recurrent_minibatch_loss(const RecurrentActorCriticT<S>& model, cons
   if (mb.obs.rows() != model.critic_input_dim())
     throw std::invalid_argument("recurrent_minibatch_loss: observations have " + std::to_string(mb.obs.rows()) +
                                 " rows, the model takes " + std::to_string(model.critic_input_dim()));
-  // The actor's GRU reads the first obs_dim rows, the critic's all of them.
-  const auto& h_actor = model.actor_gru().forward(mb.obs.topRows(model.obs_dim()), batch.starts, batch.h0_actor,
+  // The actor's GRU reads the first obs_dim rows, the critic's all of them. The actor's and the
+  // critic's passes share no data: side by side when ws.pool has two threads.
+  using Mat = typename MlpT<S>::Mat;
+  const Mat* mean_action = nullptr;
+  const Mat* values = nullptr;
+  run_pair(
+      ws.pool,
+      [&] {
+        const auto& h = model.actor_gru().forward(mb.obs.topRows(model.obs_dim()), batch.starts, batch.h0_actor,
                                                   batch.steps, ws.actor_gru_cache);
-  const auto& h_critic =
-      model.critic_gru().forward(mb.obs, batch.starts, batch.h0_critic, batch.steps, ws.critic_gru_cache);
-  const auto& mean_action = model.actor().forward(h_actor, ws.actor_cache);
-  const auto& values = model.critic().forward(h_critic, ws.critic_cache);
+        mean_action = &model.actor().forward(h, ws.actor_cache);
+      },
+      [&] {
+        const auto& h = model.critic_gru().forward(mb.obs, batch.starts, batch.h0_critic, batch.steps,
+                                                   ws.critic_gru_cache);
+        values = &model.critic().forward(h, ws.critic_cache);
+      });
   PpoLossT<S> out =
-      ppo_loss_from_outputs<S>(mean_action, values, model.log_std(), mb, coefs, grad ? &ws.outputs : nullptr);
+      ppo_loss_from_outputs<S>(*mean_action, *values, model.log_std(), mb, coefs, grad ? &ws.outputs : nullptr);
   if (grad != nullptr) {
     grad->log_std = ws.outputs.d_log_std;
+    double actor_sq = 0.0, actor_gru_sq = 0.0, critic_sq = 0.0, critic_gru_sq = 0.0;
+    run_pair(
+        ws.pool,
+        [&] {
+          actor_sq = model.actor().backward(ws.actor_cache, ws.outputs.d_mean, grad->actor, &ws.d_actor_h);
+          actor_gru_sq = model.actor_gru().backward(ws.actor_gru_cache, ws.d_actor_h, grad->actor_gru);
+        },
+        [&] {
+          critic_sq = model.critic().backward(ws.critic_cache, ws.outputs.d_value, grad->critic, &ws.d_critic_h);
+          critic_gru_sq = model.critic_gru().backward(ws.critic_gru_cache, ws.d_critic_h, grad->critic_gru);
+        });
     out.grad_squared_norm =
-        model.actor().backward(ws.actor_cache, ws.outputs.d_mean, grad->actor, &ws.d_actor_h) +
-        model.actor_gru().backward(ws.actor_gru_cache, ws.d_actor_h, grad->actor_gru) +
-        model.critic().backward(ws.critic_cache, ws.outputs.d_value, grad->critic, &ws.d_critic_h) +
-        model.critic_gru().backward(ws.critic_gru_cache, ws.d_critic_h, grad->critic_gru) +
-        static_cast<double>(grad->log_std.squaredNorm());
+        actor_sq + actor_gru_sq + critic_sq + critic_gru_sq + static_cast<double>(grad->log_std.squaredNorm());
   }
   return out;
 }
@@ -61,7 +78,7 @@ int sequences_per_minibatch(const PpoConfig& config, int n_envs) {
 
 PpoStats recurrent_ppo_update(RecurrentActorCritic& model, Adam& optimizer, const RolloutBuffer& buffer,
                               const RecurrentState& initial_state, const PpoConfig& config,
-                              std::int64_t num_timesteps, Rng& rng) {
+                              std::int64_t num_timesteps, Rng& rng, ThreadPool* pool) {
   validate(config);
   if (!buffer.full()) throw std::logic_error("recurrent_ppo_update: rollout buffer is not full");
   const int n_envs = buffer.n_envs(), steps = buffer.n_steps();
@@ -80,6 +97,7 @@ PpoStats recurrent_ppo_update(RecurrentActorCritic& model, Adam& optimizer, cons
   RecurrentMinibatchT<float> mb;
   mb.steps = steps;
   RecurrentWorkspaceT<float> ws;
+  ws.pool = pool;
   RecurrentActorCritic::Grad grad = model.zero_grad();
   const auto blocks = model.adam_blocks(grad);
   PpoStatsSum sums;

@@ -49,6 +49,7 @@ struct RecurrentWorkspaceT {
   typename MlpT<S>::Cache actor_cache, critic_cache;
   PpoOutputGradT<S> outputs;
   typename MlpT<S>::Mat d_actor_h, d_critic_h;
+  ThreadPool* pool = nullptr;  // as PpoWorkspaceT::pool: actor and critic side by side; not owned
 };
 
 // Loss of one minibatch of sequences and, if grad is non-null, its gradient w.r.t. every
@@ -73,9 +74,10 @@ extern template PpoLossT<double> recurrent_minibatch_loss<double>(const Recurren
 int sequences_per_minibatch(const PpoConfig& config, int n_envs);
 
 // The whole optimisation phase on a full buffer (advantages and returns computed).
+// pool: as ppo_update's (actor and critic side by side, bit-identical to null).
 // initial_state: the hidden states (H x n_envs) the rollout began from.
 PpoStats recurrent_ppo_update(RecurrentActorCritic& model, Adam& optimizer, const RolloutBuffer& buffer,
                               const RecurrentState& initial_state, const PpoConfig& config,
-                              std::int64_t num_timesteps, Rng& rng);
+                              std::int64_t num_timesteps, Rng& rng, ThreadPool* pool = nullptr);
 
 }  // namespace codesign::rl

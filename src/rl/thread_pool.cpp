@@ -85,4 +85,13 @@ void ThreadPool::parallel_for(std::size_t n, const std::function<void(std::size_
   if (error) std::rethrow_exception(error);
 }
 
+void run_pair(ThreadPool* pool, const std::function<void()>& a, const std::function<void()>& b) {
+  if (pool == nullptr || pool->size() < 2) {
+    a();
+    b();
+    return;
+  }
+  pool->parallel_for(2, [&](std::size_t i) { i == 0 ? a() : b(); });
+}
+
 }  // namespace codesign::rl

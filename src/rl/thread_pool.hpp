@@ -45,4 +45,10 @@ class ThreadPool {
   bool stop_ = false;
 };
 
+// a() and b() side by side on two threads of `pool`, or a() then b() on the caller when pool is
+// null or has one thread. They must touch disjoint data (e.g. the actor's and the critic's passes
+// of a PPO minibatch), so the results are the same either way. An exception of either is
+// rethrown after both have finished.
+void run_pair(ThreadPool* pool, const std::function<void()>& a, const std::function<void()>& b);
+
 }  // namespace codesign::rl

@@ -1,10 +1,12 @@
-// End-to-end checks of `codesign baseline pid`, `codesign sweep` and `codesign refine`: bad input
-// is one message naming file, key and range with exit status 2 and no earlier output touched;
-// refine on a finished (tiny) run appends [refined] to result.toml and keeps every other byte.
+// End-to-end checks of `codesign baseline pid`, `codesign sweep`, `codesign refine` and
+// `codesign evaluate`: bad input is one message naming file, key and range with exit status 2 and
+// no earlier output touched; refine on a finished (tiny) run appends [refined] to result.toml and
+// keeps every other byte; evaluate ranks designs of a finished run at T2 into RUN/evaluate/t2/.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -108,6 +110,37 @@ TEST(BaselinesCli, RefineAppendsItsTableAndKeepsEveryOtherByte) {
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string again = slurp(run / "result.toml");
   EXPECT_EQ(again, after);  // deterministic: the same search, the same table
+}
+
+TEST(BaselinesCli, EvaluateRanksARunsDesignsAndRefusesBadInput) {
+  const fs::path dir = scratch("evaluate");
+  auto r = run_codesign("evaluate --run " + dir.string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_EQ(r.output, "codesign: error: " + dir.string() +
+                          ": has no config.toml; evaluate needs a co-design run folder\n");
+  write(dir / "tiny.toml", kTinyRun);
+  const fs::path run = dir / "run";
+  r = run_codesign("run --config " + (dir / "tiny.toml").string() + " -o " + run.string() + " --quiet --no-figures");
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* f : {"checkpoint_t1.bin", "checkpoint_t2.bin"}) EXPECT_TRUE(fs::exists(run / f)) << f;
+  r = run_codesign("evaluate --run " + run.string() + " --at t3");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--at"), std::string::npos) << r.output;
+  r = run_codesign("evaluate --run " + run.string() + " --designs 3-2");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--designs"), std::string::npos) << r.output;
+  r = run_codesign("evaluate --run " + run.string() + " --phases 1");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_FALSE(fs::exists(run / "evaluate"));
+  r = run_codesign("evaluate --run " + run.string() + " --at t2 --designs 20-22 --phases 2 --threads 1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("evaluate: t = 20;"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("ranks"), std::string::npos) << r.output;
+  const std::string ranking = slurp(run / "evaluate" / "t2" / "ranking.csv");
+  EXPECT_EQ(ranking.substr(0, ranking.find('\n')),
+            "rank,design,n,l_mm,w_mm,p1_kPa,p2_kPa,q,score,samples,mean_return,std_return,ci95,band_fraction,"
+            "episodes,seconds,role");
+  EXPECT_EQ(std::count(ranking.begin(), ranking.end(), '\n'), 4);  // header + 3 designs
 }
 
 }  // namespace

@@ -313,6 +313,58 @@ TEST(PpoUpdate, DeferredOptimizerStepIsBitIdenticalToStepping) {
   }
 }
 
+// With a pool of two threads the actor's and the critic's passes run side by side: the same
+// operations per network, so the same parameters, Adam moments and statistics to the bit, in
+// both product precisions, with the deferred Adam step (whose layer-by-layer application the two
+// forward passes then do concurrently) and the privileged critic's wider input.
+TEST(PpoUpdate, ActorAndCriticSideBySideAreBitIdenticalToOneThread) {
+  for (MatmulPrecision p : {MatmulPrecision::Float32, MatmulPrecision::BFloat16}) {
+    if (p == MatmulPrecision::BFloat16 && !bf16_gemm_available()) continue;
+    for (int privileged : {0, 3}) {
+      SCOPED_TRACE(std::string(p == MatmulPrecision::BFloat16 ? "bf16" : "float32") + ", privileged " +
+                   std::to_string(privileged));
+      Rng rng(23);
+      ActorCritic model(6, 1, {64, 96}, {96, 64}, 0.0f, privileged);
+      model.init_orthogonal(rng);
+      model.set_matmul_precision(p);
+      RolloutBuffer buf(8, 16, 6 + privileged, 1);
+      for (int t = 0; t < 8; ++t) {
+        Eigen::MatrixXf obs(6 + privileged, 16);
+        for (Eigen::Index i = 0; i < obs.size(); ++i) obs(i) = static_cast<float>(rng.normal());
+        const auto a = model.act(obs, rng);
+        Eigen::RowVectorXf r(16);
+        for (Eigen::Index e = 0; e < 16; ++e) r(e) = static_cast<float>(rng.normal());
+        buf.add(obs, a.actions, r, Eigen::RowVectorXf::Constant(16, t == 0 ? 1.f : 0.f), a.values, a.log_probs);
+      }
+      buf.compute_returns_and_advantage(Eigen::RowVectorXf::Zero(16), Eigen::RowVectorXf::Zero(16), 0.99, 0.95);
+      PpoConfig cfg;
+      cfg.batch_size = 64;
+      cfg.n_epochs = 3;
+      cfg.learning_rate = 1e-3;
+      ActorCritic one = model, two = model;
+      Adam adam_1 = make_adam(cfg), adam_2 = make_adam(cfg);
+      ThreadPool pool(2);
+      for (int update = 0; update < 2; ++update) {
+        Rng r1(11 + update), r2(11 + update);
+        const PpoStats s1 = ppo_update(one, adam_1, buf, cfg, 0, r1, true, nullptr);
+        const PpoStats s2 = ppo_update(two, adam_2, buf, cfg, 0, r2, true, &pool);
+        EXPECT_EQ(s1.loss, s2.loss);
+        EXPECT_EQ(s1.approx_kl, s2.approx_kl);
+        EXPECT_EQ(s1.grad_norm, s2.grad_norm);
+        EXPECT_EQ(s1.minibatches_applied, s2.minibatches_applied);
+      }
+      EXPECT_EQ(one.actor().params(), two.actor().params());
+      EXPECT_EQ(one.critic().params(), two.critic().params());
+      EXPECT_EQ(one.log_std(), two.log_std());
+      for (std::size_t i = 0; i < 3; ++i) {
+        EXPECT_EQ(adam_1.first_moment(i), adam_2.first_moment(i));
+        EXPECT_EQ(adam_1.second_moment(i), adam_2.second_moment(i));
+      }
+      EXPECT_NE(two.actor().params(), model.actor().params());  // it did learn something
+    }
+  }
+}
+
 TEST(PpoConfig, EntropyCoefficientDecaysLinearly) {
   const PpoConfig c = paper_ppo_config();
   EXPECT_DOUBLE_EQ(entropy_coef_at(c, 0), 0.01);

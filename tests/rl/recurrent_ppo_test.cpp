@@ -294,6 +294,37 @@ TEST(RecurrentPpoUpdate, KlEarlyStopAndMinibatchesOfWholeSequences) {
   EXPECT_THROW(recurrent_ppo_update(model, adam, fresh, model.zero_state(4), cfg, 0, rng), std::invalid_argument);
 }
 
+// As ppo_update's: actor (GRU + MLP) and critic (GRU + MLP) side by side on a pool of two
+// threads give the same parameters and statistics to the bit as one thread.
+TEST(RecurrentPpoUpdate, ActorAndCriticSideBySideAreBitIdenticalToOneThread) {
+  Rng rng(13);
+  RecurrentActorCritic model(2, 1, 6, {16, 12}, {12, 16});
+  model.init(rng);
+  PpoConfig cfg;
+  cfg.n_steps = 4;
+  cfg.batch_size = 8;
+  cfg.n_epochs = 3;
+  cfg.learning_rate = 1e-2;
+  const RolloutBuffer buf = recurrent_buffer(model, 0.0f, rng);
+  RecurrentActorCritic one = model, two = model;
+  Adam adam_1 = make_adam(cfg), adam_2 = make_adam(cfg);
+  ThreadPool pool(2);
+  for (int update = 0; update < 2; ++update) {
+    Rng r1(3 + update), r2(3 + update);
+    const PpoStats s1 = recurrent_ppo_update(one, adam_1, buf, one.zero_state(5), cfg, 0, r1, nullptr);
+    const PpoStats s2 = recurrent_ppo_update(two, adam_2, buf, two.zero_state(5), cfg, 0, r2, &pool);
+    EXPECT_EQ(s1.loss, s2.loss);
+    EXPECT_EQ(s1.grad_norm, s2.grad_norm);
+    EXPECT_EQ(s1.minibatches_applied, s2.minibatches_applied);
+  }
+  EXPECT_EQ(one.actor_gru().params(), two.actor_gru().params());
+  EXPECT_EQ(one.critic_gru().params(), two.critic_gru().params());
+  EXPECT_EQ(one.actor().params(), two.actor().params());
+  EXPECT_EQ(one.critic().params(), two.critic().params());
+  EXPECT_EQ(one.log_std(), two.log_std());
+  EXPECT_NE(two.actor_gru().params(), model.actor_gru().params());
+}
+
 // The log-std floor (PpoConfig::log_std_min) holds after every recurrent update step too. One
 // step (one epoch, one minibatch of all 5 sequences): the unfloored step takes log_std below 0
 // (checked first, so the test can fail), the floored one leaves it at 0 exactly. Five epochs of
