@@ -135,7 +135,7 @@ TEST(BaselinesCli, EvaluateRanksARunsDesignsAndRefusesBadInput) {
   r = run_codesign("evaluate --run " + run.string() + " --at t2 --designs 20-22 --phases 2 --threads 1");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("evaluate: t = 20;"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("ranks"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("evaluate: d* (leading design) j"), std::string::npos) << r.output;
   const std::string ranking = slurp(run / "evaluate" / "t2" / "ranking.csv");
   EXPECT_EQ(ranking.substr(0, ranking.find('\n')),
             "rank,design,n,l_mm,w_mm,p1_kPa,p2_kPa,q,score,samples,mean_return,std_return,ci95,band_fraction,"
