@@ -130,7 +130,7 @@ int run_train_gym(const TrainGymOptions& opt) {
                   s.value_loss, s.entropy_loss, s.approx_kl, s.clip_fraction,
                   s.explained_variance, s.grad_norm, s.ent_coef, s.epochs_done,
                   s.early_stopped ? 1 : 0,
-                  static_cast<double>(trainer.model().log_std().mean()));
+                  static_cast<double>(trainer.log_std().mean()));
     metrics << row << std::flush;
 
     const bool last = trainer.finished();
@@ -151,25 +151,24 @@ int run_train_gym(const TrainGymOptions& opt) {
     }
     if (cfg.checkpoint_every_iterations > 0 &&
         p.iteration % cfg.checkpoint_every_iterations == 0) {
-      rl::save_policy(out / "checkpoints" /
-                          ("policy_" + std::to_string(p.timesteps) + ".cdspol"),
-                      trainer.model(), trainer.obs_normalization());
+      rl::save_policy(out / "checkpoints" / ("policy_" + std::to_string(p.timesteps) + ".cdspol"),
+                      trainer.policy_contents());
     }
   });
   const double train_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
 
   const std::uint64_t eval_seed = rl::eval_seed_first(tc.seed, cfg.eval_episodes);
-  rl::EvalResult eval = rl::evaluate(trainer.model(), factory, cfg.eval_episodes, eval_seed, 1'000'000,
-                                    trainer.obs_normalization());
+  // The trained policy as its file's reader acts (one Policy::Episode per episode: a recurrent
+  // policy starts each from a zero state).
+  const rl::Policy trained(trainer.policy_contents());
+  rl::EvalResult eval = rl::evaluate(trained, factory, cfg.eval_episodes, eval_seed);
   if (cfg.save_policy) {
     const fs::path policy_path = out / "policy.cdspol";
-    rl::save_policy(policy_path, trainer.model(), trainer.obs_normalization());
+    rl::save_policy(policy_path, trained.contents());
     // The file must reproduce the evaluation exactly (same float32 weights, same arithmetic).
     const rl::Policy policy = rl::Policy::load(policy_path);
-    const rl::EvalResult again = rl::evaluate(
-        [&policy](const Eigen::VectorXd& obs) { return policy.act_deterministic(obs); }, factory,
-        cfg.eval_episodes, eval_seed);
+    const rl::EvalResult again = rl::evaluate(policy, factory, cfg.eval_episodes, eval_seed);
     if (again.returns != eval.returns)
       std::fprintf(stderr, "train-gym: warning: the saved policy evaluates to %.3f, the trained "
                            "model to %.3f\n", again.mean_return, eval.mean_return);

@@ -140,9 +140,6 @@ GymTrainConfig read_gym_config(TableReader& root) {
   if (g.trainer.ppo.privileged_critic)
     ppo.fail("privileged_critic", "value true is not allowed here: the gym tasks supply no privileged "
                                   "features (only the whisker co-design does); allowed: false");
-  if (g.trainer.ppo.policy == rl::PolicyKind::Gru)
-    ppo.fail("policy", "value \"gru\" is not allowed here: train-gym runs the feed-forward policy only (the "
-                       "recurrent one is wired into the whisker co-design); allowed: \"mlp\"");
   const std::int64_t rollout = static_cast<std::int64_t>(g.trainer.ppo.n_steps) * g.trainer.n_envs;
   if (g.trainer.ppo.batch_size > rollout)
     ppo.fail("batch_size", "value " + std::to_string(g.trainer.ppo.batch_size) +

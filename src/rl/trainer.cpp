@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numeric>
 #include <stdexcept>
 #include <string>
 
 #include "base/seconds_since.hpp"
 #include "rl/policy_file.hpp"
+#include "rl/recurrent_ppo.hpp"
 
 namespace codesign::rl {
 
@@ -45,8 +47,18 @@ Trainer::Trainer(const EnvFactory& factory, const TrainerConfig& config)
   Rng init_rng = master.split();
   act_rng_ = master.split();
   update_rng_ = master.split();
-  model_.init_orthogonal(init_rng);
-  model_.set_matmul_precision(config_.ppo.matmul_precision);
+  const int obs_dim = static_cast<int>(venv_.spec().observation.dim());
+  if (config_.ppo.policy == PolicyKind::Gru) {
+    recurrent_.emplace(obs_dim, static_cast<int>(venv_.spec().action.dim()), config_.ppo.gru_hidden,
+                       config_.ppo.actor_hidden, config_.ppo.critic_hidden,
+                       static_cast<float>(config_.ppo.log_std_init));
+    recurrent_->init(init_rng);
+    recurrent_->set_matmul_precision(config_.ppo.matmul_precision);
+    gru_.emplace(*recurrent_, config_.n_envs);
+  } else {
+    model_.init_orthogonal(init_rng);
+    model_.set_matmul_precision(config_.ppo.matmul_precision);
+  }
   if (config_.ppo.normalize_observations) obs_stats_.emplace(static_cast<int>(venv_.spec().observation.dim()));
 
   last_obs_ = venv_.reset();
@@ -59,7 +71,8 @@ Trainer::Trainer(const EnvFactory& factory, const TrainerConfig& config)
 void Trainer::collect_rollouts() {
   const auto t0 = std::chrono::steady_clock::now();
   const auto n = static_cast<std::int64_t>(config_.n_envs);
-  MlpPolicy policy(model_);
+  std::optional<MlpPolicy> mlp;
+  RolloutPolicy& policy = gru_ ? static_cast<RolloutPolicy&>(*gru_) : static_cast<RolloutPolicy&>(mlp.emplace(model_));
   const RolloutStep step = [this, n](const Eigen::MatrixXd& actions, bool /*last*/) -> const VecStepResult& {
     num_timesteps_ += n;  // VecEnv restarts finished episodes at once, the last step too
     return venv_.step(actions);
@@ -83,7 +96,16 @@ void Trainer::collect_rollouts() {
 }
 
 PpoStats Trainer::update() {
+  if (recurrent_)
+    return recurrent_ppo_update(*recurrent_, optimizer_, buffer_, gru_->rollout_start_state(), config_.ppo,
+                                num_timesteps_, update_rng_);
   return ppo_update(model_, optimizer_, buffer_, config_.ppo, num_timesteps_, update_rng_);
+}
+
+PolicyFileContents Trainer::policy_contents() const {
+  PolicyFileContents c{model_, obs_normalization()};
+  c.recurrent = recurrent_;
+  return c;
 }
 
 TrainProgress Trainer::iterate() {
@@ -139,13 +161,17 @@ std::uint64_t eval_seed_first(std::uint64_t train_seed, int episodes) {
   return kEvalSeedOffset + train_seed * kEvalSeedStride;
 }
 
-EvalResult evaluate(const DeterministicPolicy& policy, const EnvFactory& factory, int episodes,
-                    std::uint64_t seed, int max_steps) {
+namespace {
+
+// The evaluation loop: make_episode() gives the policy of one episode (a fresh one per episode).
+EvalResult evaluate_episodes(const std::function<DeterministicPolicy()>& make_episode, const EnvFactory& factory,
+                             int episodes, std::uint64_t seed, int max_steps) {
   if (episodes < 1) throw std::invalid_argument("evaluate: episodes must be >= 1");
   std::unique_ptr<Env> env = factory(0);
   const BoxSpec& bounds = env->spec().action;
   EvalResult out;
   for (int k = 0; k < episodes; ++k) {
+    const DeterministicPolicy policy = make_episode();
     Eigen::VectorXd obs = env->reset(seed + static_cast<std::uint64_t>(k));
     double ret = 0.0;
     int len = 0;
@@ -168,6 +194,23 @@ EvalResult evaluate(const DeterministicPolicy& policy, const EnvFactory& factory
   for (double r : out.returns) ss += (r - out.mean_return) * (r - out.mean_return);
   out.std_return = std::sqrt(ss / n);
   return out;
+}
+
+}  // namespace
+
+EvalResult evaluate(const DeterministicPolicy& policy, const EnvFactory& factory, int episodes,
+                    std::uint64_t seed, int max_steps) {
+  return evaluate_episodes([&policy] { return policy; }, factory, episodes, seed, max_steps);
+}
+
+EvalResult evaluate(const Policy& policy, const EnvFactory& factory, int episodes, std::uint64_t seed,
+                    int max_steps) {
+  return evaluate_episodes(
+      [&policy]() -> DeterministicPolicy {
+        auto episode = std::make_shared<Policy::Episode>(policy.begin_episode());
+        return [episode](const Eigen::VectorXd& obs) { return episode->act(obs); };
+      },
+      factory, episodes, seed, max_steps);
 }
 
 EvalResult evaluate(const ActorCritic& model, const EnvFactory& factory, int episodes,

@@ -4,8 +4,11 @@
 //
 // One iteration = collect_rollouts() + update():
 //   collect: collect_rollout() (rollout.hpp, the loop the co-design uses too) with the
-//            actor-critic as MlpPolicy; the environments continue across rollouts.
-//   update:  ppo_update (PPO.train), entropy coefficient from the timesteps collected so far.
+//            actor-critic as MlpPolicy, or with ppo.policy = "gru" the recurrent actor-critic as
+//            GruPolicy (gru_policy.hpp), whose hidden states, like the environments, continue
+//            across rollouts; the environments continue across rollouts.
+//   update:  ppo_update (PPO.train), or recurrent_ppo_update from the states the rollout began
+//            with; entropy coefficient from the timesteps collected so far.
 // Iterations repeat while num_timesteps < total_timesteps, so the total is rounded up to whole
 // rollouts (SB3 does the same): 100k steps at 4 x 1024 per rollout is 25 rollouts, 102400 steps.
 //
@@ -29,7 +32,10 @@
 #include "rl/actor_critic.hpp"
 #include "rl/adam.hpp"
 #include "rl/env.hpp"
+#include "rl/gru_policy.hpp"
+#include "rl/policy_file.hpp"
 #include "rl/ppo.hpp"
+#include "rl/recurrent_actor_critic.hpp"
 #include "rl/rng.hpp"
 #include "rl/rollout.hpp"
 #include "rl/rollout_buffer.hpp"
@@ -82,8 +88,18 @@ class Trainer {
 
   const TrainerConfig& config() const { return config_; }
   const EnvSpec& spec() const { return venv_.spec(); }
+  // The feed-forward model (ppo.policy = "mlp"; with "gru" it is unused and untrained).
   ActorCritic& model() { return model_; }
   const ActorCritic& model() const { return model_; }
+  // The recurrent model (ppo.policy = "gru"), else null.
+  const RecurrentActorCritic* recurrent() const { return recurrent_ ? &*recurrent_ : nullptr; }
+  // The hidden states the last rollout began from (ppo.policy = "gru"), else null.
+  const RecurrentState* rollout_start_state() const { return gru_ ? &gru_->rollout_start_state() : nullptr; }
+  // The trained policy as a policy file holds it: the model in use and the frozen observation
+  // normalisation.
+  PolicyFileContents policy_contents() const;
+  // log σ of the model in use.
+  const Eigen::VectorXf& log_std() const { return recurrent_ ? recurrent_->log_std() : model_.log_std(); }
   const RolloutBuffer& buffer() const { return buffer_; }
   std::int64_t num_timesteps() const { return num_timesteps_; }
   std::int64_t num_episodes() const { return num_episodes_; }
@@ -98,6 +114,8 @@ class Trainer {
   TrainerConfig config_;
   VecEnv venv_;
   ActorCritic model_;
+  std::optional<RecurrentActorCritic> recurrent_;  // ppo.policy = "gru"
+  std::optional<GruPolicy> gru_;                   // its hidden states, kept across rollouts
   Adam optimizer_;
   RolloutBuffer buffer_;
   Rng act_rng_;
@@ -162,5 +180,9 @@ EvalResult evaluate(const DeterministicPolicy& policy, const EnvFactory& factory
 EvalResult evaluate(const ActorCritic& model, const EnvFactory& factory, int episodes,
                     std::uint64_t seed, int max_steps = 1'000'000,
                     const std::optional<ObsNormalization>& obs_norm = std::nullopt);
+// A loaded policy of either kind, as its file's reader acts: one Policy::Episode per episode (a
+// recurrent policy's state starts at zero in each).
+EvalResult evaluate(const Policy& policy, const EnvFactory& factory, int episodes, std::uint64_t seed,
+                    int max_steps = 1'000'000);
 
 }  // namespace codesign::rl

@@ -4,8 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <vector>
+
+#include <unistd.h>
 
 #include "rl/pendulum.hpp"
 #include "rl/trainer.hpp"
@@ -146,6 +149,44 @@ TEST(Trainer, BitIdenticalForOneAndFourThreads) {
   Trainer t3(pendulum_factory(), other);
   t3.learn();
   EXPECT_NE(one.model().actor().params(), t3.model().actor().params());
+}
+
+// ppo.policy = "gru" in the gym trainer: the same results for 1 and 4 threads; the hidden states
+// carry across rollouts (Pendulum's 200-step episodes span the 64-step rollouts), so the second
+// rollout starts from non-zero states; the trained policy evaluates as its policy file does.
+TEST(Trainer, RecurrentPolicyIsThreadIndependentCarriesItsStateAndEvaluatesAsItsFile) {
+  TrainerConfig c1 = small_pendulum_config(1), c4 = small_pendulum_config(4);
+  for (TrainerConfig* c : {&c1, &c4}) {
+    c->ppo.policy = PolicyKind::Gru;
+    c->ppo.gru_hidden = 8;
+  }
+  Trainer one(pendulum_factory(), c1), four(pendulum_factory(), c4);
+  one.collect_rollouts();
+  one.update();
+  ASSERT_NE(one.recurrent(), nullptr);
+  const RecurrentActorCritic first = *one.recurrent();
+  EXPECT_EQ(one.rollout_start_state()->actor.squaredNorm(), 0.0f);  // the first rollout starts from zero
+  one.collect_rollouts();  // steps 64-127 of 200-step episodes: no episode starts in this rollout
+  EXPECT_EQ(one.buffer().episode_starts().sum(), 0.0f);
+  EXPECT_GT(one.rollout_start_state()->actor.squaredNorm(), 0.0f) << "the state must carry across rollouts";
+  EXPECT_GT(one.rollout_start_state()->critic.squaredNorm(), 0.0f);
+  one.update();
+  one.learn();
+  four.learn();
+  EXPECT_EQ(one.recurrent()->actor_gru().params(), four.recurrent()->actor_gru().params());
+  EXPECT_EQ(one.recurrent()->critic().params(), four.recurrent()->critic().params());
+  EXPECT_NE(one.recurrent()->actor_gru().params(), first.actor_gru().params());
+  const PolicyFileContents contents = one.policy_contents();
+  ASSERT_TRUE(contents.recurrent.has_value());
+  const std::filesystem::path file =
+      std::filesystem::path(::testing::TempDir()) / ("trainer_gru_" + std::to_string(::getpid()) + ".cdspol");
+  save_policy(file, contents);
+  const Policy loaded = Policy::load(file);
+  EXPECT_TRUE(loaded.recurrent());
+  const EvalResult a = evaluate(Policy(contents), pendulum_factory(), 3, 4242);
+  const EvalResult b = evaluate(loaded, pendulum_factory(), 3, 4242);
+  EXPECT_EQ(a.returns, b.returns);
+  std::filesystem::remove(file);
 }
 
 TEST(Trainer, LearnStopsAtFirstRolloutReachingTotal) {
