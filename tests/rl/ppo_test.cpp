@@ -269,6 +269,32 @@ TEST(PpoUpdate, GradientNormIsGlobalAndClipped) {
 // bit: the same arithmetic on the same values, only later. Hidden sizes 64 and 96 put the
 // 96 x 64 layer on the fused path (bf16 products, W packed column block by column block right
 // after its update); 16 envs x 8 steps = 128 samples in minibatches of 64 (>= 32 columns).
+// A full buffer of 8 steps x 16 envs of random observations (`rows` per column) from the model.
+RolloutBuffer random_rollout(const ActorCritic& model, int rows, Rng& rng) {
+  RolloutBuffer buf(8, 16, rows, 1);
+  for (int t = 0; t < 8; ++t) {
+    Eigen::MatrixXf obs(rows, 16);
+    for (Eigen::Index i = 0; i < obs.size(); ++i) obs(i) = static_cast<float>(rng.normal());
+    const auto a = model.act(obs, rng);
+    Eigen::RowVectorXf r(16);
+    for (Eigen::Index e = 0; e < 16; ++e) r(e) = static_cast<float>(rng.normal());
+    buf.add(obs, a.actions, r, Eigen::RowVectorXf::Constant(16, t == 0 ? 1.f : 0.f), a.values, a.log_probs);
+  }
+  buf.compute_returns_and_advantage(Eigen::RowVectorXf::Zero(16), Eigen::RowVectorXf::Zero(16), 0.99, 0.95);
+  return buf;
+}
+
+// Two trainings that must have ended in the same state: parameters and Adam moments to the bit.
+void expect_same_state(const ActorCritic& a, const Adam& adam_a, const ActorCritic& b, const Adam& adam_b) {
+  EXPECT_EQ(a.actor().params(), b.actor().params());
+  EXPECT_EQ(a.critic().params(), b.critic().params());
+  EXPECT_EQ(a.log_std(), b.log_std());
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(adam_a.first_moment(i), adam_b.first_moment(i));
+    EXPECT_EQ(adam_a.second_moment(i), adam_b.second_moment(i));
+  }
+}
+
 TEST(PpoUpdate, DeferredOptimizerStepIsBitIdenticalToStepping) {
   for (MatmulPrecision p : {MatmulPrecision::Float32, MatmulPrecision::BFloat16}) {
     if (p == MatmulPrecision::BFloat16 && !bf16_gemm_available()) continue;
@@ -276,18 +302,7 @@ TEST(PpoUpdate, DeferredOptimizerStepIsBitIdenticalToStepping) {
     ActorCritic model(6, 1, {64, 96}, {96, 64});
     model.init_orthogonal(rng);
     model.set_matmul_precision(p);
-    RolloutBuffer buf(8, 16, 6, 1);
-    for (int t = 0; t < 8; ++t) {
-      Eigen::MatrixXf obs(6, 16);
-      for (Eigen::Index i = 0; i < obs.size(); ++i) obs(i) = static_cast<float>(rng.normal());
-      const auto a = model.act(obs, rng);
-      Eigen::RowVectorXf r(16);
-      for (Eigen::Index e = 0; e < 16; ++e) r(e) = static_cast<float>(rng.normal());
-      buf.add(obs, a.actions, r, Eigen::RowVectorXf::Constant(16, t == 0 ? 1.f : 0.f), a.values,
-              a.log_probs);
-    }
-    buf.compute_returns_and_advantage(Eigen::RowVectorXf::Zero(16), Eigen::RowVectorXf::Zero(16),
-                                      0.99, 0.95);
+    const RolloutBuffer buf = random_rollout(model, 6, rng);
     PpoConfig cfg;
     cfg.batch_size = 64;
     cfg.n_epochs = 3;
@@ -302,13 +317,7 @@ TEST(PpoUpdate, DeferredOptimizerStepIsBitIdenticalToStepping) {
       EXPECT_EQ(sd.loss, ss.loss);
       EXPECT_FALSE(adam_d.pending());
     }
-    EXPECT_EQ(deferred.actor().params(), stepped.actor().params());
-    EXPECT_EQ(deferred.critic().params(), stepped.critic().params());
-    EXPECT_EQ(deferred.log_std(), stepped.log_std());
-    for (std::size_t i = 0; i < 3; ++i) {
-      EXPECT_EQ(adam_d.first_moment(i), adam_s.first_moment(i));
-      EXPECT_EQ(adam_d.second_moment(i), adam_s.second_moment(i));
-    }
+    expect_same_state(deferred, adam_d, stepped, adam_s);
     EXPECT_NE(deferred.actor().params(), model.actor().params());  // it did learn something
   }
 }
@@ -327,16 +336,7 @@ TEST(PpoUpdate, ActorAndCriticSideBySideAreBitIdenticalToOneThread) {
       ActorCritic model(6, 1, {64, 96}, {96, 64}, 0.0f, privileged);
       model.init_orthogonal(rng);
       model.set_matmul_precision(p);
-      RolloutBuffer buf(8, 16, 6 + privileged, 1);
-      for (int t = 0; t < 8; ++t) {
-        Eigen::MatrixXf obs(6 + privileged, 16);
-        for (Eigen::Index i = 0; i < obs.size(); ++i) obs(i) = static_cast<float>(rng.normal());
-        const auto a = model.act(obs, rng);
-        Eigen::RowVectorXf r(16);
-        for (Eigen::Index e = 0; e < 16; ++e) r(e) = static_cast<float>(rng.normal());
-        buf.add(obs, a.actions, r, Eigen::RowVectorXf::Constant(16, t == 0 ? 1.f : 0.f), a.values, a.log_probs);
-      }
-      buf.compute_returns_and_advantage(Eigen::RowVectorXf::Zero(16), Eigen::RowVectorXf::Zero(16), 0.99, 0.95);
+      const RolloutBuffer buf = random_rollout(model, 6 + privileged, rng);
       PpoConfig cfg;
       cfg.batch_size = 64;
       cfg.n_epochs = 3;
@@ -353,13 +353,7 @@ TEST(PpoUpdate, ActorAndCriticSideBySideAreBitIdenticalToOneThread) {
         EXPECT_EQ(s1.grad_norm, s2.grad_norm);
         EXPECT_EQ(s1.minibatches_applied, s2.minibatches_applied);
       }
-      EXPECT_EQ(one.actor().params(), two.actor().params());
-      EXPECT_EQ(one.critic().params(), two.critic().params());
-      EXPECT_EQ(one.log_std(), two.log_std());
-      for (std::size_t i = 0; i < 3; ++i) {
-        EXPECT_EQ(adam_1.first_moment(i), adam_2.first_moment(i));
-        EXPECT_EQ(adam_1.second_moment(i), adam_2.second_moment(i));
-      }
+      expect_same_state(one, adam_1, two, adam_2);
       EXPECT_NE(two.actor().params(), model.actor().params());  // it did learn something
     }
   }
