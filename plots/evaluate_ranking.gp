@@ -18,4 +18,5 @@ set key top right
 plot datafile using 1:2:3 with yerrorbars pt 7 ps 0.5 lc rgb c_other title 'design', \
      datafile using 1:($5 == 1 ? $2 : NaN):3 with yerrorbars pt 7 ps 1.4 lc rgb c_best title 'd*', \
      datafile using 1:($5 == 2 ? $2 : NaN):3 with yerrorbars pt 5 ps 1.2 lc rgb c_runner title 'runner-up', \
-     datafile using 1:($5 > 0 ? $2 : NaN):(sprintf(' j%d', $4)) with labels left offset 1,0 notitle
+     datafile using 1:($5 == 1 ? $2 : NaN):(sprintf('d* j%d', $4)) with labels left offset 1,1.2 tc rgb c_best notitle, \
+     datafile using 1:($5 == 2 ? $2 : NaN):(sprintf('runner-up j%d', $4)) with labels left offset 1,-1.2 tc rgb c_runner notitle

@@ -22,13 +22,13 @@ t2_of() { get "$1/config.toml" codesign exploitation_start; }
 # "entropy largest_q" at the first distribution update with t >= T2
 entropy_at_t2() {
   awk -F, -v t2="$2" 'NR == 1 { for (i = 1; i <= NF; ++i) c[$i] = i; next }
-    $c["t"] + 0 >= t2 { printf "%.3f %.3f", $c["entropy"], $c["top1_q"]; exit }' "$1/distribution.csv"
+    $c["t"] + 0 >= t2 { printf "%s %s", $c["entropy"], $c["top1_q"]; exit }' "$1/distribution.csv"
 }
 # rank of design J in a ranking.csv (empty if absent)
 rank_in() { awk -F, -v j="$2" 'NR > 1 && $2 == j { print $1; exit }' "$1"; }
 count_in() { awk 'END { print NR - 1 }' "$1"; }
 
-ln3=$(awk 'BEGIN { printf "%.6f", log(3) }')
+ln3=$(awk 'BEGIN { printf "%.17g", log(3) }')
 ok=1
 declare -A dstar
 echo "| seed | d* | p* (kPa) | test return of d* | H(q_disc) at T2 (largest q) | rank of d* in its own T2 evaluation |"
@@ -44,7 +44,7 @@ for s in $seeds; do
   r=$(awk -v m="$(get "$d/result.toml" best test_return)" -v sd="$(get "$d/result.toml" best test_return_std)" \
         'BEGIN { printf "%.2f ± %.2f", m, sd }')
   read -r h q <<< "$(entropy_at_t2 "$d" "$(t2_of "$d")")"
-  awk -v h="$h" -v l="$ln3" 'BEGIN { exit !(h <= l + 1e-9) }' || ok=0
+  awk -v h="$h" -v l="$ln3" 'BEGIN { exit !(h <= l + 1e-9) }' || ok=0  # the schedule meets its target to ~1e-12
   rk="—"
   if [ -f "$d/evaluate/t2/ranking.csv" ]; then
     rk=$(rank_in "$d/evaluate/t2/ranking.csv" "$j")
@@ -54,7 +54,7 @@ for s in $seeds; do
   else
     ok=0
   fi
-  echo "| $s | $label | $p | $r | $h ($(awk -v q="$q" 'BEGIN { printf "%.1f %%", 100 * q }')) | $rk |"
+  echo "| $s | $label | $p | $r | $(awk -v h="$h" -v q="$q" 'BEGIN { printf "%.3f (%.1f %%)", h, 100 * q }') | $rk |"
 done
 echo
 echo "| d* of seed | rank in the T2 evaluation of seed ... |"
@@ -75,8 +75,11 @@ for s in $seeds; do
   echo "| $s (j${dstar[$s]}) |${row%;} |"
 done
 echo
-if [ "$ok" = 1 ]; then
-  echo "issue 18 §3 acceptance: met (H at T2 <= ln 3 = $ln3; each d* top 3 of its own T2 evaluation, top 5 of the others')"
+nseeds=$(echo $seeds | wc -w)
+if [ "$nseeds" -lt 3 ]; then
+  echo "issue 18 §3 acceptance: not decided: $nseeds seed(s) given, the claim needs >= 3"
+elif [ "$ok" = 1 ]; then
+  echo "issue 18 §3 acceptance: met (H at T2 <= ln 3 = $(awk -v l="$ln3" 'BEGIN { printf "%.4f", l }'); each d* top 3 of its own T2 evaluation, top 5 of the others')"
 else
   echo "issue 18 §3 acceptance: NOT met (or a seed's run or T2 evaluation is missing)"
 fi
