@@ -151,7 +151,10 @@ IterationReport OuterLoop::iterate() {
   const rl::RolloutStep step = [this](const Eigen::MatrixXd& actions, bool last) -> const rl::VecStepResult& {
     return envs_->step(actions, !last);
   };
+  std::optional<rl::GruPolicy> gru;
   const rl::RolloutObserver observe = [&](int k, std::size_t i, const rl::VecStepResult& r) {
+    if (i == 0 && gru && memory_observer_)
+      memory_observer_(length[0], setups[0].design, gru->state().actor.col(0), gru->state().critic.col(0));
     running[i] += r.rewards(static_cast<Eigen::Index>(i));
     length[i] += 1;
     const bool done = r.done(i);
@@ -173,7 +176,6 @@ IterationReport OuterLoop::iterate() {
                                    obs_stats_ ? &*obs_stats_ : nullptr};
   // Each column is one episode from reset (episode_starts is 1 at step 0), so the recurrent
   // policy's sequences all start from a zero state.
-  std::optional<rl::GruPolicy> gru;
   std::optional<rl::MlpPolicy> mlp;
   rl::RolloutPolicy& policy = recurrent_ ? static_cast<rl::RolloutPolicy&>(gru.emplace(*recurrent_, n))
                                          : static_cast<rl::RolloutPolicy&>(mlp.emplace(model_));

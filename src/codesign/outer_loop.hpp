@@ -19,6 +19,7 @@
 // Random streams, all split from Rng(seed) in this order: network init, action sampling,
 // minibatch shuffling, design sampling (designs and plate phases).
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -123,6 +124,16 @@ class OuterLoop {
   std::int64_t timesteps() const { return t_; }
   int iteration() const { return k_; }
   EnvPool& envs() { return *envs_; }
+  // The last rollout (observations as the policy saw them, actions, rewards, ...).
+  const rl::RolloutBuffer& buffer() const { return buffer_; }
+
+  // With ppo.policy = "gru": called during each rollout after every decision of environment 0
+  // with the decision's index in the episode, the episode's design and the GRU hidden states of
+  // the actor and the critic after that decision (telemetry; never called for the MLP). Must not
+  // throw. An empty function turns it off.
+  using MemoryObserver = std::function<void(int decision, int design, const Eigen::VectorXf& actor_h,
+                                            const Eigen::VectorXf& critic_h)>;
+  void set_memory_observer(MemoryObserver observer) { memory_observer_ = std::move(observer); }
 
  private:
   std::vector<DesignSample> sample_designs(std::vector<EpisodeSetup>& setups);
@@ -138,6 +149,7 @@ class OuterLoop {
   DesignDistribution distribution_;
   int k_ = 0;
   std::int64_t t_ = 0;
+  MemoryObserver memory_observer_;
 };
 
 }  // namespace codesign::coopt

@@ -429,6 +429,24 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
         },
         options.telemetry_train_every);
   }
+  // With the recurrent policy, its memory in training environment 0 after every decision.
+  if (telemetry->enabled() && loop.recurrent_model()) {
+    io::Telemetry& tel = *telemetry;
+    loop.set_memory_observer([&tel, &iteration_start_t, &meter](int decision, int design, const Eigen::VectorXf& a,
+                                                                const Eigen::VectorXf& c) {
+      const PublishMeter::Scope timed(meter, 1);
+      codesign_lcm::policy_memory_t m{};
+      m.timestep = iteration_start_t.load(std::memory_order_relaxed);
+      m.decision = decision;
+      m.design = design;
+      m.units = static_cast<std::int32_t>(a.size());
+      m.actor_h.assign(a.data(), a.data() + a.size());
+      m.critic_h.assign(c.data(), c.data() + c.size());
+      m.actor_norm = a.cast<double>().norm();
+      m.critic_norm = c.cast<double>().norm();
+      tel.publish(m);
+    });
+  }
   auto report_telemetry = [&](RunResult& r) {
     r.telemetry_messages = meter.messages.load();
     r.telemetry_s = 1e-9 * static_cast<double>(meter.ns.load());

@@ -47,6 +47,7 @@ void LcmTelemetry::publish(const codesign_lcm::sim_step_t& m) { send(kSimStepCha
 void LcmTelemetry::publish(const codesign_lcm::episode_t& m) { send(kEpisodeChannel, m); }
 void LcmTelemetry::publish(const codesign_lcm::ppo_update_t& m) { send(kPpoChannel, m); }
 void LcmTelemetry::publish(const codesign_lcm::distribution_t& m) { send(kDistributionChannel, m); }
+void LcmTelemetry::publish(const codesign_lcm::policy_memory_t& m) { send(kPolicyMemoryChannel, m); }
 void LcmTelemetry::publish_training(const codesign_lcm::sim_step_t& m) { send(kTrainStepChannel, m); }
 
 void RecordingTelemetry::publish(const codesign_lcm::sim_step_t& m) {
@@ -75,6 +76,12 @@ void RecordingTelemetry::publish(const codesign_lcm::distribution_t& m) {
   channels_.emplace_back(kDistributionChannel);
 }
 
+void RecordingTelemetry::publish(const codesign_lcm::policy_memory_t& m) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  policy_memories_.push_back(m);
+  channels_.emplace_back(kPolicyMemoryChannel);
+}
+
 std::vector<codesign_lcm::sim_step_t> RecordingTelemetry::sim_steps() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return sim_steps_;
@@ -94,6 +101,10 @@ std::vector<codesign_lcm::ppo_update_t> RecordingTelemetry::ppo_updates() const 
 std::vector<codesign_lcm::distribution_t> RecordingTelemetry::distributions() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return distributions_;
+}
+std::vector<codesign_lcm::policy_memory_t> RecordingTelemetry::policy_memories() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return policy_memories_;
 }
 std::vector<std::string> RecordingTelemetry::channels() const {
   std::lock_guard<std::mutex> lock(mutex_);

@@ -110,6 +110,55 @@ TEST(OuterLoop, PrivilegedCriticReadsTheExtraRowsAndThePolicyDoesNot) {
 
 // ppo.policy = "gru": the loop trains the recurrent model (both GRUs and both MLPs move), its
 // state restores exactly, and a state without the GRU parameters is refused.
+// The memory observer (telemetry of the recurrent policy) sees, after each decision of
+// environment 0, the hidden states that the model's own steps give from that environment's
+// observations, starting from zero at the episode's start.
+TEST(OuterLoop, MemoryObserverSeesEnvironmentZerosHiddenStates) {
+  RunSettings s = test::tiny_run();
+  s.loop.ppo.policy = rl::PolicyKind::Gru;
+  s.loop.ppo.gru_hidden = 8;
+  auto sims = std::make_shared<SimulatorPool>(s.spec, s.scene, s.solver);
+  OuterLoop loop(s.loop, std::make_unique<ThreadEnvPool>(sims, s.loop.task, 4, 1, false));
+  struct Seen {
+    int decision, design;
+    Eigen::VectorXf actor, critic;
+  };
+  std::vector<Seen> seen;
+  loop.set_memory_observer([&](int decision, int design, const Eigen::VectorXf& a, const Eigen::VectorXf& c) {
+    seen.push_back({decision, design, a, c});
+  });
+  const rl::RecurrentActorCritic model = *loop.recurrent_model();  // the rollout's parameters
+  const IterationReport rep = loop.iterate();
+  const int n_steps = s.loop.ppo.n_steps;
+  ASSERT_EQ(static_cast<int>(seen.size()), n_steps);
+  const rl::RolloutBuffer& buf = loop.buffer();
+  Eigen::MatrixXf h = Eigen::MatrixXf::Zero(8, 1);
+  for (int k = 0; k < n_steps; ++k) {
+    // A new episode (the first, or one after an episode that ended early, e.g. lost contact)
+    // starts at decision 0 from a zero state; otherwise the count goes on.
+    const bool starts = buf.episode_starts()(static_cast<Eigen::Index>(k) * 4) > 0.5f;
+    EXPECT_EQ(starts, k == 0 || seen[k].decision == 0) << "decision " << k;
+    EXPECT_EQ(seen[k].decision, starts ? 0 : seen[k - 1].decision + 1);
+    EXPECT_EQ(seen[k].design, rep.samples[0].design);
+    ASSERT_EQ(seen[k].actor.size(), 8);
+    ASSERT_EQ(seen[k].critic.size(), 8);
+    // Environment 0's column of step k; the same GRU step as the rollout's, so equal to rounding.
+    const Eigen::MatrixXf obs = buf.observations().col(static_cast<Eigen::Index>(k) * 4);
+    Eigen::RowVectorXf start(1);
+    start(0) = starts ? 1.0f : 0.0f;
+    model.deterministic_step(obs, start, h);
+    EXPECT_LE((seen[k].actor - h.col(0)).cwiseAbs().maxCoeff(), 1e-5f) << "decision " << k;
+    EXPECT_GT(seen[k].critic.norm(), 0.0f);
+  }
+  // Off for the feed-forward policy: never called.
+  s.loop.ppo.policy = rl::PolicyKind::Mlp;
+  OuterLoop mlp(s.loop, std::make_unique<ThreadEnvPool>(sims, s.loop.task, 4, 1, false));
+  int calls = 0;
+  mlp.set_memory_observer([&](int, int, const Eigen::VectorXf&, const Eigen::VectorXf&) { ++calls; });
+  mlp.iterate();
+  EXPECT_EQ(calls, 0);
+}
+
 TEST(OuterLoop, RecurrentPolicyTrainsAndRestoresExactly) {
   RunSettings s = test::tiny_run();
   s.loop.ppo.policy = rl::PolicyKind::Gru;

@@ -342,6 +342,7 @@ TEST(Run, TelemetryLogHoldsEveryChannelAndChangesNothing) {
   };
   EXPECT_EQ(count["CODESIGN_PPO"], 6);
   EXPECT_EQ(count["CODESIGN_DISTRIBUTION"], 6);
+  EXPECT_EQ(count["CODESIGN_POLICY_MEMORY"], 0);  // a feed-forward policy has no memory
   EXPECT_EQ(count["CODESIGN_EPISODE"], rows(logged / "episodes.csv"));
   EXPECT_EQ(count["CODESIGN_SIM_STEP"],
             rows(logged / "eval" / "best_trace.csv") + rows(logged / "eval" / "runner_up_trace.csv"));
@@ -373,6 +374,78 @@ TEST(Run, TelemetryLogHoldsEveryChannelAndChangesNothing) {
   EXPECT_EQ(on.telemetry_messages, total);
   EXPECT_GT(on.telemetry_s, 0.0);
   EXPECT_LT(on.telemetry_s, on.wall_s);
+}
+
+}  // namespace
+
+namespace {
+
+// With the recurrent policy the log also holds its memory: one message per decision of training
+// environment 0, each with that environment's design, the decision's index in the episode and
+// hidden states of the configured size whose norms are the ones stated.
+TEST(Run, RecurrentRunPublishesItsMemory) {
+  RunSettings s = test::tiny_run();
+  s.loop.ppo.policy = rl::PolicyKind::Gru;
+  s.loop.ppo.gru_hidden = 8;
+  s.loop.codesign.total_timesteps = 40;  // 2 iterations of 4 x 5
+  s.loop.codesign.exploration_end = 20;
+  s.loop.codesign.exploitation_start = 30;
+  const fs::path d = fresh_dir("tel_gru");
+  fs::create_directories(d);
+  const fs::path log = d / "telemetry.lcm";
+  RunOptions o = opts(d);
+  o.telemetry_url = "file://" + log.string() + "?mode=w";
+  ASSERT_TRUE(run_codesign(s, o).completed);
+
+  std::vector<codesign_lcm::policy_memory_t> memory;
+  // The decision indices environment 0's episodes give, per iteration: 0 .. decisions − 1 for
+  // each of its episodes in turn (one ends early when, e.g., the whisker loses the plate).
+  std::vector<std::vector<int>> expected(2);
+  lcm_eventlog_t* in = lcm_eventlog_create(log.c_str(), "r");
+  ASSERT_NE(in, nullptr);
+  while (lcm_eventlog_event_t* e = lcm_eventlog_read_next_event(in)) {
+    const std::string channel(e->channel, e->channellen);
+    if (channel == io::kPolicyMemoryChannel) {
+      codesign_lcm::policy_memory_t m;
+      EXPECT_EQ(m.decode(e->data, 0, e->datalen), e->datalen);
+      memory.push_back(m);
+    } else if (channel == io::kEpisodeChannel) {
+      codesign_lcm::episode_t m;
+      EXPECT_EQ(m.decode(e->data, 0, e->datalen), e->datalen);
+      if (m.env == 0 && m.iteration >= 0 && m.iteration < 2)
+        for (int d = 0; d < m.decisions; ++d) expected[static_cast<std::size_t>(m.iteration)].push_back(d);
+    }
+    lcm_eventlog_free_event(e);
+  }
+  lcm_eventlog_destroy(in);
+  const int n_steps = s.loop.ppo.n_steps;
+  ASSERT_EQ(static_cast<int>(memory.size()), 2 * n_steps);
+  for (const auto& e : expected) ASSERT_EQ(static_cast<int>(e.size()), n_steps);
+  const io::CsvTable sampled = io::read_csv((d / "sampled.csv").string());
+  for (int k = 0; k < 2; ++k) {
+    int design = -1;  // environment 0's design in iteration k (sampled.csv: k, t, i, j)
+    for (std::size_t r = 0; r < sampled.rows(); ++r)
+      if (sampled.integer(r, sampled.column("k")) == k && sampled.integer(r, sampled.column("i")) == 0)
+        design = static_cast<int>(sampled.integer(r, sampled.column("j")));
+    for (int step = 0; step < n_steps; ++step) {
+      const codesign_lcm::policy_memory_t& m = memory[static_cast<std::size_t>(k * n_steps + step)];
+      EXPECT_EQ(m.timestep, static_cast<std::int64_t>(k) * 4 * n_steps);
+      EXPECT_EQ(m.decision, expected[static_cast<std::size_t>(k)][static_cast<std::size_t>(step)]) << k << " " << step;
+      EXPECT_EQ(m.design, design);
+      ASSERT_EQ(m.units, 8);
+      ASSERT_EQ(m.actor_h.size(), 8u);
+      ASSERT_EQ(m.critic_h.size(), 8u);
+      double a2 = 0.0, c2 = 0.0;
+      for (int u = 0; u < 8; ++u) {
+        a2 += static_cast<double>(m.actor_h[u]) * m.actor_h[u];
+        c2 += static_cast<double>(m.critic_h[u]) * m.critic_h[u];
+        EXPECT_LT(std::abs(m.actor_h[u]), 1.0f);  // a GRU state stays inside (-1, 1)
+      }
+      EXPECT_NEAR(m.actor_norm, std::sqrt(a2), 1e-12 * (1.0 + m.actor_norm));
+      EXPECT_NEAR(m.critic_norm, std::sqrt(c2), 1e-12 * (1.0 + m.critic_norm));
+      EXPECT_GT(m.actor_norm, 0.0);
+    }
+  }
 }
 
 }  // namespace

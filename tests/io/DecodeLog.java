@@ -20,6 +20,7 @@ public class DecodeLog {
       case "CODESIGN_EPISODE": return new codesign_lcm.episode_t(data).timestep;
       case "CODESIGN_PPO": return new codesign_lcm.ppo_update_t(data).timestep;
       case "CODESIGN_DISTRIBUTION": return new codesign_lcm.distribution_t(data).timestep;
+      case "CODESIGN_POLICY_MEMORY": return new codesign_lcm.policy_memory_t(data).timestep;
       default: throw new IOException("unknown channel " + channel);
     }
   }

@@ -151,6 +151,32 @@ void expect_equal(const codesign_lcm::ppo_update_t& a, const codesign_lcm::ppo_u
   EXPECT_EQ(a.steps_per_s, b.steps_per_s);
 }
 
+codesign_lcm::policy_memory_t memory(int k) {
+  codesign_lcm::policy_memory_t m{};
+  m.timestep = 4000 + k;
+  m.decision = 7 + k;
+  m.design = 35;
+  m.units = 3 + k;  // variable-length arrays of two sizes
+  for (int u = 0; u < m.units; ++u) {
+    m.actor_h.push_back(0.25f * static_cast<float>(u) - 0.5f);
+    m.critic_h.push_back(-0.125f * static_cast<float>(u + k));
+  }
+  m.actor_norm = 1.5;
+  m.critic_norm = 0.75 + k;
+  return m;
+}
+
+void expect_equal(const codesign_lcm::policy_memory_t& a, const codesign_lcm::policy_memory_t& b) {
+  EXPECT_EQ(a.timestep, b.timestep);
+  EXPECT_EQ(a.decision, b.decision);
+  EXPECT_EQ(a.design, b.design);
+  EXPECT_EQ(a.units, b.units);
+  EXPECT_EQ(a.actor_h, b.actor_h);
+  EXPECT_EQ(a.critic_h, b.critic_h);
+  EXPECT_EQ(a.actor_norm, b.actor_norm);
+  EXPECT_EQ(a.critic_norm, b.critic_norm);
+}
+
 void expect_equal(const codesign_lcm::distribution_t& a, const codesign_lcm::distribution_t& b) {
   EXPECT_EQ(a.iteration, b.iteration);
   EXPECT_EQ(a.timestep, b.timestep);
@@ -174,6 +200,7 @@ struct Collector {
   std::vector<codesign_lcm::episode_t> episodes;
   std::vector<codesign_lcm::ppo_update_t> ppo_updates;
   std::vector<codesign_lcm::distribution_t> distributions;
+  std::vector<codesign_lcm::policy_memory_t> memories;
   std::vector<std::string> channels;
   int decode_errors = 0;
 
@@ -196,6 +223,7 @@ struct Collector {
     else if (c == io::kEpisodeChannel) self.take(rb, self.episodes);
     else if (c == io::kPpoChannel) self.take(rb, self.ppo_updates);
     else if (c == io::kDistributionChannel) self.take(rb, self.distributions);
+    else if (c == io::kPolicyMemoryChannel) self.take(rb, self.memories);
     else ++self.decode_errors;
   }
 };
@@ -215,12 +243,14 @@ void publish_all(io::Telemetry& t) {
     t.publish(ppo(k));
     t.publish(distribution(k));
     t.publish_training(sim_step(10 + k));
+    t.publish(memory(k));
   }
 }
 
 const std::vector<std::string> kChannelsInOrder = {
-    io::kSimStepChannel, io::kEpisodeChannel, io::kPpoChannel, io::kDistributionChannel, io::kTrainStepChannel,
-    io::kSimStepChannel, io::kEpisodeChannel, io::kPpoChannel, io::kDistributionChannel, io::kTrainStepChannel};
+    io::kSimStepChannel, io::kEpisodeChannel,   io::kPpoChannel,      io::kDistributionChannel,
+    io::kTrainStepChannel, io::kPolicyMemoryChannel, io::kSimStepChannel, io::kEpisodeChannel,
+    io::kPpoChannel,     io::kDistributionChannel, io::kTrainStepChannel, io::kPolicyMemoryChannel};
 
 }  // namespace
 
@@ -230,6 +260,7 @@ TEST(Telemetry, ChannelNames) {
   EXPECT_STREQ(io::kPpoChannel, "CODESIGN_PPO");
   EXPECT_STREQ(io::kDistributionChannel, "CODESIGN_DISTRIBUTION");
   EXPECT_STREQ(io::kTrainStepChannel, "CODESIGN_TRAIN_STEP");
+  EXPECT_STREQ(io::kPolicyMemoryChannel, "CODESIGN_POLICY_MEMORY");
 }
 
 TEST(Telemetry, MemqRoundTripEveryField) {
@@ -251,6 +282,7 @@ TEST(Telemetry, MemqRoundTripEveryField) {
   ASSERT_EQ(c.ppo_updates.size(), 2u);
   ASSERT_EQ(c.distributions.size(), 2u);
   ASSERT_EQ(c.training_steps.size(), 2u);
+  ASSERT_EQ(c.memories.size(), 2u);
   for (int k = 0; k < 2; ++k) {
     SCOPED_TRACE(k);
     expect_equal(c.sim_steps[k], sim_step(k));
@@ -258,6 +290,7 @@ TEST(Telemetry, MemqRoundTripEveryField) {
     expect_equal(c.episodes[k], episode(k));
     expect_equal(c.ppo_updates[k], ppo(k));
     expect_equal(c.distributions[k], distribution(k));
+    expect_equal(c.memories[k], memory(k));
   }
 }
 
@@ -317,11 +350,13 @@ TEST(Telemetry, NullAndRecording) {
   ASSERT_EQ(rec.ppo_updates().size(), 2u);
   ASSERT_EQ(rec.distributions().size(), 2u);
   ASSERT_EQ(rec.training_steps().size(), 2u);
+  ASSERT_EQ(rec.policy_memories().size(), 2u);
   expect_equal(rec.sim_steps()[1], sim_step(1));
   expect_equal(rec.training_steps()[1], sim_step(11));
   expect_equal(rec.episodes()[1], episode(1));
   expect_equal(rec.ppo_updates()[1], ppo(1));
   expect_equal(rec.distributions()[1], distribution(1));
+  expect_equal(rec.policy_memories()[1], memory(1));
 }
 
 TEST(Telemetry, LogFileDecodedByTheJavaTypesJar) {
@@ -366,7 +401,7 @@ TEST(Telemetry, LogFileDecodedByTheJavaTypesJar) {
     }
   }
   EXPECT_EQ(failures, 0) << out;
-  ASSERT_EQ(decoded.size(), 5u) << out;
+  ASSERT_EQ(decoded.size(), 6u) << out;
   auto sum = [](auto make, int n) {
     long long s = 0;
     for (int k = 0; k < n; ++k) s += make(k).timestep;
@@ -376,6 +411,7 @@ TEST(Telemetry, LogFileDecodedByTheJavaTypesJar) {
   EXPECT_EQ(decoded[io::kEpisodeChannel], std::make_pair(2LL, sum(episode, 2))) << out;
   EXPECT_EQ(decoded[io::kPpoChannel], std::make_pair(2LL, sum(ppo, 2))) << out;
   EXPECT_EQ(decoded[io::kDistributionChannel], std::make_pair(2LL, sum(distribution, 2))) << out;
+  EXPECT_EQ(decoded[io::kPolicyMemoryChannel], std::make_pair(2LL, sum(memory, 2))) << out;
   EXPECT_EQ(decoded[io::kTrainStepChannel],
             std::make_pair(2LL, static_cast<long long>(sim_step(10).timestep + sim_step(11).timestep)))
       << out;
