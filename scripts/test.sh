@@ -44,8 +44,6 @@ cmake --build build/asan -j "$jobs"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1"
 export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
-if [ "${CODESIGN_ASAN_ALL:-0}" = 1 ]; then
-  ctest --test-dir build/asan --output-on-failure -j "$jobs" --timeout 3000
-else
-  ctest --test-dir build/asan --output-on-failure -j "$jobs" --timeout 3000 -E "$ASAN_LONG"
-fi
+skip=(-E "$ASAN_LONG")
+[ "${CODESIGN_ASAN_ALL:-0}" = 1 ] && skip=()
+ctest --test-dir build/asan --output-on-failure -j "$jobs" --timeout 3000 "${skip[@]}"

@@ -151,6 +151,9 @@ IterationReport OuterLoop::iterate() {
   const rl::RolloutStep step = [this](const Eigen::MatrixXd& actions, bool last) -> const rl::VecStepResult& {
     return envs_->step(actions, !last);
   };
+  // Every rollout starts each column from reset (episode_starts is 1 at step 0), so the recurrent
+  // policy's sequences start from a zero state; an episode that ends early (e.g. lost contact)
+  // restarts in its column, from a zero state again. Emplaced below, read by `observe`.
   std::optional<rl::GruPolicy> gru;
   const rl::RolloutObserver observe = [&](int k, std::size_t i, const rl::VecStepResult& r) {
     if (i == 0 && gru && memory_observer_)
@@ -174,8 +177,6 @@ IterationReport OuterLoop::iterate() {
   };
   const rl::RolloutOptions options{n_steps, config_.ppo.gamma, config_.ppo.gae_lambda,
                                    obs_stats_ ? &*obs_stats_ : nullptr};
-  // Each column is one episode from reset (episode_starts is 1 at step 0), so the recurrent
-  // policy's sequences all start from a zero state.
   std::optional<rl::MlpPolicy> mlp;
   rl::RolloutPolicy& policy = recurrent_ ? static_cast<rl::RolloutPolicy&>(gru.emplace(*recurrent_, n))
                                          : static_cast<rl::RolloutPolicy&>(mlp.emplace(model_));

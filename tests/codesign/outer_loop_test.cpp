@@ -108,8 +108,6 @@ TEST(OuterLoop, PrivilegedCriticReadsTheExtraRowsAndThePolicyDoesNot) {
                std::invalid_argument);
 }
 
-// ppo.policy = "gru": the loop trains the recurrent model (both GRUs and both MLPs move), its
-// state restores exactly, and a state without the GRU parameters is refused.
 // The memory observer (telemetry of the recurrent policy) sees, after each decision of
 // environment 0, the hidden states that the model's own steps give from that environment's
 // observations, starting from zero at the episode's start.
@@ -159,6 +157,8 @@ TEST(OuterLoop, MemoryObserverSeesEnvironmentZerosHiddenStates) {
   EXPECT_EQ(calls, 0);
 }
 
+// ppo.policy = "gru": the loop trains the recurrent model (both GRUs and both MLPs move), its
+// state restores exactly, and a state without the GRU parameters is refused.
 TEST(OuterLoop, RecurrentPolicyTrainsAndRestoresExactly) {
   RunSettings s = test::tiny_run();
   s.loop.ppo.policy = rl::PolicyKind::Gru;

@@ -376,10 +376,6 @@ TEST(Run, TelemetryLogHoldsEveryChannelAndChangesNothing) {
   EXPECT_LT(on.telemetry_s, on.wall_s);
 }
 
-}  // namespace
-
-namespace {
-
 // With the recurrent policy the log also holds its memory: one message per decision of training
 // environment 0, each with that environment's design, the decision's index in the episode and
 // hidden states of the configured size whose norms are the ones stated.
@@ -413,7 +409,7 @@ TEST(Run, RecurrentRunPublishesItsMemory) {
       codesign_lcm::episode_t m;
       EXPECT_EQ(m.decode(e->data, 0, e->datalen), e->datalen);
       if (m.env == 0 && m.iteration >= 0 && m.iteration < 2)
-        for (int d = 0; d < m.decisions; ++d) expected[static_cast<std::size_t>(m.iteration)].push_back(d);
+        for (int i = 0; i < m.decisions; ++i) expected[static_cast<std::size_t>(m.iteration)].push_back(i);
     }
     lcm_eventlog_free_event(e);
   }
