@@ -183,7 +183,7 @@ fem::StepResult WhiskerEnv::update_strain_zero() {
   sim_->reset();
   sim_->set_pressures_kPa(setup_.p1_kPa, p2);
   sim_->set_plate_mean_z(sim_->plate_touch_z() - kPlateAway_mm);
-  fem::StepResult r = sim_->settle();
+  fem::StepResult r = sim_->settle(fem::Simulator::SettleFor::Reading);  // reset() follows
   if (!r.ok()) {
     r.reason = "zeroing the strain sensor: " + r.reason;
     return r;

@@ -661,7 +661,7 @@ Simulator& Simulator::operator=(Simulator&&) noexcept = default;
 
 void Simulator::reset() { impl_->reset(); }
 
-StepResult Simulator::settle() {
+StepResult Simulator::settle(SettleFor purpose) {
   Impl& m = *impl_;
   StepResult last;
   const int n = std::max(1, m.scene.settle_steps);
@@ -675,8 +675,9 @@ StepResult Simulator::settle() {
     if (!last.ok()) return last;
   }
   // Fast: factorise the dynamic system at the settled state — the operating point of the
-  // episode is a far better preconditioner than the straight rest placement.
-  if (m.solver.method == StepMethod::Fast) {
+  // episode is a far better preconditioner than the straight rest placement. A settle for a
+  // reading leaves no dynamic step to precondition.
+  if (m.solver.method == StepMethod::Fast && purpose == SettleFor::Episode) {
     std::string why;
     Eigen::VectorXd ff;
     const StepStatus fs = m.force_pass(m.x, ff, why);

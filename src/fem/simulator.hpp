@@ -111,10 +111,15 @@ class Simulator {
   // Undeformed placement at θ = 0, v = 0, t = 0, pressures 0, plate at z_touch (+ U sin(phase)
   // motion only starts with step()).
   void reset();
+  // What a settle() is for. Episode: dynamic steps follow, so the fast method ends with a
+  // factorisation of the dynamic system at the settled state (their preconditioner). Reading:
+  // only the settled state is read (the strain sensor's zero), then the simulator is reset; the
+  // states are the same bits as Episode's, without that factorisation (about a fifth of a
+  // settle's cost), and step() afterwards would precondition from the reset placement's factor.
+  enum class SettleFor { Episode, Reading };
   // Quasi-static loading: `settle_steps` static steps raising the plate from z_touch to z0
   // (with the current pressures and gravity) and 5 more at z0, then zero velocity. t stays 0.
-  // Fast method: ends with a factorisation of the dynamic system at the settled state.
-  StepResult settle();
+  StepResult settle(SettleFor purpose = SettleFor::Episode);
   // One static step: the same linearised solve with dt = static_dt_s, time and plate frozen,
   // velocity zeroed afterwards (a damped Newton iteration towards equilibrium).
   StepResult static_step();
