@@ -20,14 +20,15 @@ CorotatedBatch::CorotatedBatch(const std::vector<Tet>& tets, const std::vector<T
   dof_.assign(static_cast<std::size_t>(groups_) * 4 * W, 0);
   grad_.assign(static_cast<std::size_t>(groups_) * 9 * W, 0.0);
   vol_.assign(static_cast<std::size_t>(groups_) * W, 0.0);
-  rot_.assign(static_cast<std::size_t>(groups_) * 9 * W, 0.0);
+  rot_.q.assign(static_cast<std::size_t>(groups_) * 4 * W, 0.0);
+  rot_.R.assign(static_cast<std::size_t>(groups_) * 9 * W, 0.0);
+  set_all_rotations(Eigen::Matrix3d::Identity());  // until set; padding lanes stay identity
   for (int e = 0; e < elements_; ++e) {
     const std::size_t b = e / W, l = e % W;
     for (int a = 0; a < 4; ++a) dof_[(b * 4 + a) * W + l] = 3 * tets[e][a];
     for (int a = 1; a < 4; ++a)
       for (int j = 0; j < 3; ++j) grad_[(b * 9 + 3 * (a - 1) + j) * W + l] = rest[e].grad(a, j);
     vol_[b * W + l] = rest[e].volume;
-    for (int i = 0; i < 3; ++i) rot_[(b * 9 + 4 * i) * W + l] = 1.0;  // identity until set
   }
 }
 
@@ -180,13 +181,60 @@ void polar_lanes(const double F[9][W], double q[4][W], double* R, int lanes, dou
 
 }  // namespace
 
+void CorotatedBatch::set_all_rotations(const Eigen::Matrix3d& G) {
+  const Eigen::Quaterniond qg(G);
+  const double qv[4] = {qg.w(), qg.x(), qg.y(), qg.z()};
+  for (int b = 0; b < groups_; ++b)
+    for (int l = 0; l < W; ++l) {
+      const bool real = b * W + l < elements_;
+      for (int k = 0; k < 4; ++k) rot_.q[(static_cast<std::size_t>(b) * 4 + k) * W + l] = real ? qv[k] : k == 0 ? 1.0 : 0.0;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          rot_.R[(static_cast<std::size_t>(b) * 9 + 3 * i + j) * W + l] = real ? G(i, j) : i == j ? 1.0 : 0.0;
+    }
+}
+
+void CorotatedBatch::set_all_rotation_matrices(const Eigen::Matrix3d& G) {
+  for (int e = 0; e < elements_; ++e) {
+    const std::size_t b = e / W, l = e % W;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) rot_.R[(b * 9 + 3 * i + j) * W + l] = G(i, j);
+  }
+}
+
+Eigen::Matrix3d CorotatedBatch::rotation(int e) const {
+  const std::size_t b = e / W, l = e % W;
+  Eigen::Matrix3d R;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) R(i, j) = rot_.R[(b * 9 + 3 * i + j) * W + l];
+  return R;
+}
+
+Eigen::Quaterniond CorotatedBatch::quaternion(int e) const {
+  const std::size_t b = e / W, l = e % W;
+  const double* q = &rot_.q[b * 4 * W];
+  return Eigen::Quaterniond(q[0 * W + l], q[1 * W + l], q[2 * W + l], q[3 * W + l]);
+}
+
+std::vector<Eigen::Matrix3d> CorotatedBatch::rotation_matrices() const {
+  std::vector<Eigen::Matrix3d> out(static_cast<std::size_t>(elements_));
+  for (int e = 0; e < elements_; ++e) out[static_cast<std::size_t>(e)] = rotation(e);
+  return out;
+}
+
+void CorotatedBatch::set_rotations(const Rotations& r) {
+  if (r.q.size() != rot_.q.size() || r.R.size() != rot_.R.size())
+    throw std::invalid_argument("CorotatedBatch::set_rotations: rotations of another mesh");
+  rot_ = r;
+}
+
 void CorotatedBatch::add_stiffness_times(const Eigen::VectorXd& u, Eigen::VectorXd& y) const {
   const double* uu = u.data();
   double* yy = y.data();
   for (int b = 0; b < groups_; ++b) {
     const int* dof = &dof_[static_cast<std::size_t>(b) * 4 * W];
     const double* g = &grad_[static_cast<std::size_t>(b) * 9 * W];
-    const double* R = &rot_[static_cast<std::size_t>(b) * 9 * W];
+    const double* R = &rot_.R[static_cast<std::size_t>(b) * 9 * W];
     const double* vol = &vol_[static_cast<std::size_t>(b) * W];
     double out[12][W];
     for (int l = 0; l < W; ++l) {
@@ -198,15 +246,15 @@ void CorotatedBatch::add_stiffness_times(const Eigen::VectorXd& u, Eigen::Vector
   }
 }
 
-int CorotatedBatch::elastic_pass(const Eigen::VectorXd& x, double tolerance, std::vector<Eigen::Quaterniond>& q,
-                                 std::vector<Eigen::Matrix3d>& rot, Eigen::VectorXd& f, const Eigen::VectorXd* u,
-                                 Eigen::VectorXd* ku, double* bad_det) {
+int CorotatedBatch::elastic_pass(const Eigen::VectorXd& x, double tolerance, Eigen::VectorXd& f,
+                                 const Eigen::VectorXd* u, Eigen::VectorXd* ku, double* bad_det) {
   const double* xx = x.data();
   const double two_mu = 2.0 * mu_;
   for (int b = 0; b < groups_; ++b) {
     const int* dof = &dof_[static_cast<std::size_t>(b) * 4 * W];
     const double* g = &grad_[static_cast<std::size_t>(b) * 9 * W];
-    double* R = &rot_[static_cast<std::size_t>(b) * 9 * W];
+    double* R = &rot_.R[static_cast<std::size_t>(b) * 9 * W];
+    double* qb = &rot_.q[static_cast<std::size_t>(b) * 4 * W];
     const double* vol = &vol_[static_cast<std::size_t>(b) * W];
     const int e0 = b * W, lanes = std::min(W, elements_ - e0);
     double F[9][W], det[W];
@@ -225,20 +273,11 @@ int CorotatedBatch::elastic_pass(const Eigen::VectorXd& x, double tolerance, std
         return e0 + l;
       }
     double qs[4][W];
-    for (int l = 0; l < W; ++l) {
-      const bool real = l < lanes;
-      qs[0][l] = real ? q[e0 + l].w() : 1.0;
-      qs[1][l] = real ? q[e0 + l].x() : 0.0;
-      qs[2][l] = real ? q[e0 + l].y() : 0.0;
-      qs[3][l] = real ? q[e0 + l].z() : 0.0;
-    }
+    for (int k = 0; k < 4; ++k)
+      for (int l = 0; l < W; ++l) qs[k][l] = qb[k * W + l];
     polar_lanes(F, qs, R, lanes, tolerance);
-    for (int l = 0; l < lanes; ++l) {
-      q[e0 + l] = Eigen::Quaterniond(qs[0][l], qs[1][l], qs[2][l], qs[3][l]);
-      Eigen::Matrix3d& Re = rot[e0 + l];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) Re(i, j) = R[(3 * i + j) * W + l];
-    }
+    for (int k = 0; k < 4; ++k)
+      for (int l = 0; l < lanes; ++l) qb[k * W + l] = qs[k][l];
     double out[12][W];
     for (int l = 0; l < W; ++l) {
       double Fl[3][3];

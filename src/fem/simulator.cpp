@@ -56,12 +56,10 @@ struct Simulator::Impl {
   Eigen::VectorXd x, v, f;
   Eigen::VectorXd v_prev;    // velocity of the step before (fast: CG start v + (v − v_prev))
   double omega_last = 0.0;   // base angular velocity of the last step [rad/s]
-  std::vector<Eigen::Matrix3d> rot;      // per tet: polar rotation at x
-  std::vector<Eigen::Quaterniond> qrot;  // the same as unit quaternions (warm starts)
-  // The element loops (force pass, K·u), vectorised across elements; holds its own copy of
-  // rot, written by each force pass (`batch_stale` when rot was replaced otherwise).
+  // The element loops (force pass, K·u), vectorised across elements. It holds the element
+  // rotations (polar rotation at x per tet, and the same as a quaternion warm start), written
+  // by each force pass: the simulator's one store of them.
   CorotatedBatch batch;
-  bool batch_stale = true;
   std::vector<Eigen::Matrix3d> fibre_kt;  // per fibre spring: tangent at x (last force pass)
   double t = 0.0;
   double theta = 0.0, theta_from = 0.0, theta_to = 0.0;
@@ -126,9 +124,7 @@ struct Simulator::Impl {
     v_prev = v;
     omega_last = 0.0;
     f = Eigen::VectorXd::Zero(3 * n);
-    rot.assign(model->mesh.tets.size(), G);
-    qrot.assign(model->mesh.tets.size(), Eigen::Quaterniond(G));
-    batch_stale = true;
+    batch.set_all_rotations(G);
     t = 0.0;
     theta = theta_from = theta_to = 0.0;
     ramp_total = ramp_done = 0;
@@ -158,12 +154,11 @@ struct Simulator::Impl {
     ff.setZero(3 * n);
     if (u) ku->setZero(3 * n);
     double J = 0.0;
-    if (const int e = batch.elastic_pass(xx, rotation_tolerance, qrot, rot, ff, u, ku, &J); e >= 0) {
+    if (const int e = batch.elastic_pass(xx, rotation_tolerance, ff, u, ku, &J); e >= 0) {
       why = std::isfinite(J) ? "inverted element " + std::to_string(e) + " (det F = " + std::to_string(J) + ")"
                              : "non-finite deformation in element " + std::to_string(e);
       return std::isfinite(J) ? StepStatus::InvertedElement : StepStatus::NonFinite;
     }
-    batch_stale = false;  // the pass gave the batch every element's new rotation
     fibre_kt.resize(model->fibres.size());
     for (std::size_t q = 0; q < model->fibres.size(); ++q) {
       const FibreSpring& s = model->fibres[q];
@@ -190,10 +185,6 @@ struct Simulator::Impl {
   // y = K(x) u (co-rotated elastic + fibre tangents), all DOFs.
   void apply_K(const Eigen::VectorXd& u, Eigen::VectorXd& y) {
     y.setZero(3 * n);
-    if (batch_stale) {
-      for (std::size_t e = 0; e < rot.size(); ++e) batch.set_rotation(static_cast<int>(e), rot[e]);
-      batch_stale = false;
-    }
     batch.add_stiffness_times(u, y);
     add_fibre_K(u, y);
   }
@@ -237,7 +228,7 @@ struct Simulator::Impl {
   bool build_exact(double dt) {
     double c_m, c_k;
     coefficients(dt, c_m, c_k);
-    assemble_system(*model, free_index, rot, x, c_m, c_k, *A);
+    assemble_system(*model, free_index, batch.rotation_matrices(), x, c_m, c_k, *A);
     if (!exact_analysed) {
       exact_factor.analyse(A->dofs(), A->colptr(), A->rowind(), 3);
       exact_analysed = true;
@@ -249,7 +240,7 @@ struct Simulator::Impl {
   bool build_reference(Reference& ref, double dt) {
     double c_m, c_k;
     coefficients(dt, c_m, c_k);
-    assemble_system(*model, free_index, rot, x, c_m, c_k, *A);
+    assemble_system(*model, free_index, batch.rotation_matrices(), x, c_m, c_k, *A);
     if (!ref.factor.size()) ref.factor.analyse(A->dofs(), A->colptr(), A->rowind(), 3);
     ++factorisations;
     ref.valid = ref.factor.factorise(A->values());
@@ -270,7 +261,7 @@ struct Simulator::Impl {
     std::vector<Eigen::Vector4d> acc(nfree, Eigen::Vector4d::Zero());
     const auto& tets = model->mesh.tets;
     for (std::size_t e = 0; e < tets.size(); ++e) {
-      const Eigen::Vector4d qe = qrot[e].coeffs() * model->rest[e].volume;
+      const Eigen::Vector4d qe = batch.quaternion(static_cast<int>(e)).coeffs() * model->rest[e].volume;
       for (int a = 0; a < 4; ++a)
         if (const int k = free_index[tets[e][a]]; k >= 0) acc[k] += qe.dot(node_qrot[k].coeffs()) >= 0.0 ? qe : Eigen::Vector4d(-qe);
     }
@@ -481,20 +472,18 @@ struct Simulator::Impl {
     RefSlot& sl = slot(dt == solver.dt_s);
     if (!sl.rest.valid) {
       // Built once at the reset placement (θ = 0, undeformed), kept across reset().
+      // (Its node rotations come from the current quaternions, as they always have.)
       const Eigen::VectorXd xs = x;
-      const auto rs = rot;
-      const auto qs = qrot;
+      const CorotatedBatch::Rotations rs = batch.rotations();
       const double th = theta;
       const Eigen::Matrix3d G0 = base_rotation(0.0);
       for (int i = 0; i < n; ++i) x.segment<3>(3 * i) = G0 * model->rest_positions.segment<3>(3 * i);
-      std::fill(rot.begin(), rot.end(), G0);
+      batch.set_all_rotation_matrices(G0);
       theta = 0.0;
       const bool ok = build_reference(sl.rest, dt);
       theta = th;
       x = xs;
-      rot = rs;
-      qrot = qs;
-      batch_stale = true;
+      batch.set_rotations(rs);
       if (!ok) return fail(StepStatus::SolverFailure, "CHOLMOD factorisation of the reference matrix failed");
       res.refactorised = true;
     }
@@ -635,8 +624,7 @@ struct Simulator::Snapshot::Data {
   const Model* model = nullptr;
   Eigen::VectorXd x, v, f, v_prev;
   double omega_last = 0.0;
-  std::vector<Eigen::Matrix3d> rot;
-  std::vector<Eigen::Quaterniond> qrot;
+  CorotatedBatch::Rotations rotations;
   std::vector<Eigen::Matrix3d> fibre_kt;
   double t = 0.0, theta = 0.0, theta_from = 0.0, theta_to = 0.0;
   int ramp_total = 0, ramp_done = 0;
@@ -720,7 +708,7 @@ Simulator::Snapshot Simulator::snapshot() const {
   d->model = m.model.get();
   d->x = m.x, d->v = m.v, d->f = m.f, d->v_prev = m.v_prev;
   d->omega_last = m.omega_last;
-  d->rot = m.rot, d->qrot = m.qrot, d->fibre_kt = m.fibre_kt;
+  d->rotations = m.batch.rotations(), d->fibre_kt = m.fibre_kt;
   d->t = m.t, d->theta = m.theta, d->theta_from = m.theta_from, d->theta_to = m.theta_to;
   d->ramp_total = m.ramp_total, d->ramp_done = m.ramp_done;
   d->pressures_Pa = m.pressures_Pa;
@@ -741,8 +729,8 @@ StepResult Simulator::restore(const Snapshot& snapshot) {
   if (d.model != m.model.get()) throw std::invalid_argument("Simulator::restore: snapshot of another model");
   m.x = d.x, m.v = d.v, m.f = d.f, m.v_prev = d.v_prev;
   m.omega_last = d.omega_last;
-  m.rot = d.rot, m.qrot = d.qrot, m.fibre_kt = d.fibre_kt;
-  m.batch_stale = true;
+  m.batch.set_rotations(d.rotations);
+  m.fibre_kt = d.fibre_kt;
   m.t = d.t, m.theta = d.theta, m.theta_from = d.theta_from, m.theta_to = d.theta_to;
   m.ramp_total = d.ramp_total, m.ramp_done = d.ramp_done;
   m.pressures_Pa = d.pressures_Pa;
@@ -821,13 +809,10 @@ Eigen::Vector3d Simulator::base_reaction() const {
   Impl& m = *impl_;
   Eigen::VectorXd ff;
   std::string why;
-  const std::vector<Eigen::Matrix3d> keep = m.rot;
-  const std::vector<Eigen::Quaterniond> keepq = m.qrot;
+  const CorotatedBatch::Rotations keep = m.batch.rotations();
   const std::vector<Eigen::Matrix3d> keepk = m.fibre_kt;
   m.force_pass(m.x, ff, why);  // the caches (rotations, fibre tangents) stay those of the step
-  m.rot = keep;
-  m.qrot = keepq;
-  m.batch_stale = true;
+  m.batch.set_rotations(keep);
   m.fibre_kt = keepk;
   Eigen::Vector3d r = Eigen::Vector3d::Zero();
   for (int b : m.model->base_nodes) r -= ff.segment<3>(3 * b);

@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 #include <random>
+#include <stdexcept>
 
 #include "fem/box_mesh.hpp"
 #include "fem/corotated_batch.hpp"
@@ -85,15 +86,17 @@ void check_pass(int nx, int ny, int nz, double angle, std::uint32_t seed) {
     }
   }
 
-  CorotatedBatch batch(fx.mesh.tets, fx.rest, kMu, kLambda);
-  std::vector<Eigen::Quaterniond> q(ne, Eigen::Quaterniond::Identity());
-  std::vector<Eigen::Matrix3d> R(ne);
+  CorotatedBatch batch(fx.mesh.tets, fx.rest, kMu, kLambda);  // rotations start at the identity
   Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size()), ku = f;
   double det = 0.0;
-  ASSERT_EQ(batch.elastic_pass(x, 1e-14, q, R, f, &u, &ku, &det), -1);
+  ASSERT_EQ(batch.elastic_pass(x, 1e-14, f, &u, &ku, &det), -1);
+  const std::vector<Eigen::Matrix3d> R = batch.rotation_matrices();
+  ASSERT_EQ(R.size(), ne);
   for (std::size_t e = 0; e < ne; ++e) {
+    const int ei = static_cast<int>(e);
     EXPECT_LT((R[e] - R_ref[e]).norm(), 1e-12) << "element " << e;
-    EXPECT_LT((q[e].toRotationMatrix() - R[e]).norm(), 1e-14) << "element " << e;
+    EXPECT_EQ(batch.rotation(ei), R[e]);
+    EXPECT_LT((batch.quaternion(ei).toRotationMatrix() - R[e]).norm(), 1e-14) << "element " << e;
     // The polar rotation makes Rᵀ F symmetric (its defining property, independent of the reference).
     const Eigen::Matrix3d S = R[e].transpose() * element_F(fx, x, e);
     EXPECT_LT((S - S.transpose()).norm(), 1e-11 * S.norm()) << "element " << e;
@@ -105,11 +108,30 @@ void check_pass(int nx, int ny, int nz, double angle, std::uint32_t seed) {
   Eigen::VectorXd y = Eigen::VectorXd::Zero(x.size());
   batch.add_stiffness_times(u, y);
   EXPECT_LT((y - ku_ref).norm(), 1e-11 * ku_ref.norm());
+  // Rotations put back whole into a fresh batch give the same product, bit for bit; and a pass
+  // from them starts where this one ended (the same rotations again, to the tolerance).
   CorotatedBatch fresh(fx.mesh.tets, fx.rest, kMu, kLambda);
-  for (std::size_t e = 0; e < ne; ++e) fresh.set_rotation(static_cast<int>(e), R_ref[e]);
-  y.setZero();
-  fresh.add_stiffness_times(u, y);
-  EXPECT_LT((y - ku_ref).norm(), 1e-11 * ku_ref.norm());
+  fresh.set_rotations(batch.rotations());
+  EXPECT_EQ(fresh.rotations(), batch.rotations());
+  Eigen::VectorXd y2 = Eigen::VectorXd::Zero(x.size());
+  fresh.add_stiffness_times(u, y2);
+  EXPECT_EQ(y2, y);
+  // All set to one rotation G: matrix G, quaternion G's, padding untouched by the product.
+  const Eigen::Matrix3d G = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  fresh.set_all_rotations(G);
+  for (std::size_t e = 0; e < ne; ++e) {
+    EXPECT_EQ(fresh.rotation(static_cast<int>(e)), G);
+    EXPECT_EQ(fresh.quaternion(static_cast<int>(e)).coeffs(), Eigen::Quaterniond(G).coeffs());
+  }
+  // Matrices only: the quaternions (warm starts) stay those put back before.
+  fresh.set_rotations(batch.rotations());
+  fresh.set_all_rotation_matrices(G);
+  for (std::size_t e = 0; e < ne; ++e) {
+    EXPECT_EQ(fresh.rotation(static_cast<int>(e)), G);
+    EXPECT_EQ(fresh.quaternion(static_cast<int>(e)).coeffs(), batch.quaternion(static_cast<int>(e)).coeffs());
+  }
+  CorotatedBatch other(make_fixture(2, 1, 1).mesh.tets, make_fixture(2, 1, 1).rest, kMu, kLambda);
+  EXPECT_THROW(other.set_rotations(batch.rotations()), std::invalid_argument);
 }
 
 TEST(CorotatedBatch, ElasticPassMatchesTheElementFunctionsOnSharedNodes) {
@@ -130,11 +152,9 @@ TEST(CorotatedBatch, ReportsTheFirstInvertedElementAndItsDeterminant) {
   // Mirror every node through the plane x = 1.5: every element inverts; the first is 0.
   for (Eigen::Index i = 0; i < x.size() / 3; ++i) x[3 * i] = 3.0 - x[3 * i];
   CorotatedBatch batch(fx.mesh.tets, fx.rest, kMu, kLambda);
-  std::vector<Eigen::Quaterniond> q(ne, Eigen::Quaterniond::Identity());
-  std::vector<Eigen::Matrix3d> R(ne);
   Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size());
   double det = 0.0;
-  EXPECT_EQ(batch.elastic_pass(x, 1e-6, q, R, f, nullptr, nullptr, &det), 0);
+  EXPECT_EQ(batch.elastic_pass(x, 1e-6, f, nullptr, nullptr, &det), 0);
   EXPECT_NEAR(det, element_F(fx, x, 0).determinant(), 1e-12);
   EXPECT_LT(det, 0.0);
   // Node 0 of element 29 pushed through its opposite face: the first element that inverts
@@ -147,7 +167,7 @@ TEST(CorotatedBatch, ReportsTheFirstInvertedElementAndItsDeterminant) {
   for (std::size_t e = 0; e < ne && first_bad < 0; ++e)
     if (!(element_F(fx, x, e).determinant() > 0.0)) first_bad = static_cast<int>(e);
   ASSERT_GE(first_bad, 0);
-  EXPECT_EQ(batch.elastic_pass(x, 1e-6, q, R, f, nullptr, nullptr, &det), first_bad);
+  EXPECT_EQ(batch.elastic_pass(x, 1e-6, f, nullptr, nullptr, &det), first_bad);
   // A NaN position: reported as a non-finite determinant at the first element touching it.
   x = fx.X;
   x[3 * fx.mesh.tets[5][2] + 1] = std::nan("");
@@ -155,7 +175,7 @@ TEST(CorotatedBatch, ReportsTheFirstInvertedElementAndItsDeterminant) {
   for (std::size_t e = 0; e < ne && first_nan < 0; ++e)
     for (int a = 0; a < 4; ++a)
       if (fx.mesh.tets[e][a] == fx.mesh.tets[5][2]) first_nan = static_cast<int>(e);
-  EXPECT_EQ(batch.elastic_pass(x, 1e-6, q, R, f, nullptr, nullptr, &det), first_nan);
+  EXPECT_EQ(batch.elastic_pass(x, 1e-6, f, nullptr, nullptr, &det), first_nan);
   EXPECT_FALSE(std::isfinite(det));
 }
 
