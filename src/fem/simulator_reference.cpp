@@ -1,0 +1,86 @@
+#include "fem/simulator_impl.hpp"
+
+
+
+namespace codesign::fem {
+
+bool Simulator::Impl::build_exact(double dt) {
+  double c_m, c_k;
+  coefficients(dt, c_m, c_k);
+  assemble_system(*model, free_index, batch.rotation_matrices(), x, c_m, c_k, *A);
+  if (!exact_analysed) {
+    exact_factor.analyse(A->dofs(), A->colptr(), A->rowind(), 3);
+    exact_analysed = true;
+  }
+  ++factorisations;
+  return exact_factor.factorise(A->values());
+}
+
+bool Simulator::Impl::build_reference(Reference& ref, double dt) {
+  double c_m, c_k;
+  coefficients(dt, c_m, c_k);
+  assemble_system(*model, free_index, batch.rotation_matrices(), x, c_m, c_k, *A);
+  if (!ref.factor.size()) ref.factor.analyse(A->dofs(), A->colptr(), A->rowind(), 3);
+  ++factorisations;
+  ref.valid = ref.factor.factorise(A->values());
+  if (!ref.valid) return false;
+  ref.dt = dt;
+  update_node_rotations();
+  ref.node_rot = node_rot;
+  const int m = static_cast<int>(model->contact_nodes.size());
+  ref.cols.assign(m, {});
+  return true;
+}
+
+// Node rotations: normalised volume-weighted sum of the adjacent element rotations as unit
+// quaternions (sign-aligned with the node's previous rotation) — a cheap rotation average;
+// it only shapes the preconditioner.
+void Simulator::Impl::update_node_rotations() {
+  if (static_cast<int>(node_qrot.size()) != nfree) node_qrot.assign(nfree, Eigen::Quaterniond(base_rotation(0.0)));
+  std::vector<Eigen::Vector4d> acc(nfree, Eigen::Vector4d::Zero());
+  const auto& tets = model->mesh.tets;
+  for (std::size_t e = 0; e < tets.size(); ++e) {
+    const Eigen::Vector4d qe = batch.quaternion(static_cast<int>(e)).coeffs() * model->rest[e].volume;
+    for (int a = 0; a < 4; ++a)
+      if (const int k = free_index[tets[e][a]]; k >= 0) acc[k] += qe.dot(node_qrot[k].coeffs()) >= 0.0 ? qe : Eigen::Vector4d(-qe);
+  }
+  node_rot.resize(nfree);
+  for (int k = 0; k < nfree; ++k) {
+    const double nrm = acc[k].norm();
+    if (nrm > 0.0) node_qrot[k].coeffs() = acc[k] / nrm;
+    node_rot[k] = node_qrot[k].toRotationMatrix();
+  }
+}
+
+// Q_k = R_k(now) R_k(ref)ᵀ: how far each node's frame turned since the reference.
+void Simulator::Impl::update_warp(const Reference& ref) {
+  warp.resize(nfree);
+  for (int k = 0; k < nfree; ++k) warp[k] = node_rot[k] * ref.node_rot[k].transpose();
+}
+
+// Makes sure the reference columns of candidate c exist.
+bool Simulator::Impl::ensure_columns(Reference& ref, int c) {
+  if (ref.cols[c][0].size() > 0) return true;
+  const int k = free_index[model->contact_nodes[c]];
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(3 * nfree);
+  for (int d = 0; d < 3; ++d) {
+    e.setZero();
+    e[3 * k + d] = 1.0;
+    Eigen::VectorXd y(3 * nfree);
+    ref.factor.solve(e.data(), y.data());
+    if (!y.allFinite()) return false;
+    ref.cols[c][d] = std::move(y);
+  }
+  return true;
+}
+
+// y = Q A_ref⁻¹ Qᵀ r (free DOFs), Q = blockdiag(warp): the stored inverse turned node by node.
+void Simulator::Impl::apply_ref_inverse(Reference& ref, const Eigen::VectorXd& r, Eigen::VectorXd& y) {
+  work_u.resize(r.size());
+  for (int k = 0; k < nfree; ++k) work_u.segment<3>(3 * k) = warp[k].transpose() * r.segment<3>(3 * k);
+  y.resize(r.size());
+  ref.factor.solve(work_u.data(), y.data());
+  for (int k = 0; k < nfree; ++k) y.segment<3>(3 * k) = warp[k] * y.segment<3>(3 * k).eval();
+}
+
+}  // namespace codesign::fem
