@@ -16,6 +16,7 @@
 #include "base/errors.hpp"
 #include "codesign/design_sweep.hpp"
 #include "codesign/pid_tuning.hpp"
+#include "codesign/run_folder.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
@@ -38,28 +39,6 @@ struct BaselineOptions {
   int threads = 0;
   bool force = false;
 };
-
-// With an estimator, the trace gets the column F_hat_mN (F̂ at the same step).
-void write_eval(const fs::path& dir, const std::string& which, const coopt::DesignEvaluation& e,
-                const coopt::ForceEstimator* estimator = nullptr) {
-  fs::create_directories(dir);
-  io::write_file_atomically((dir / (which + ".csv")).string(), [&](std::ostream& out) {
-    out << "episode,phase_rad,return,decisions,band_fraction,reason\n";
-    for (std::size_t k = 0; k < e.returns.size(); ++k)
-      out << k << ',' << CsvLog::num(coopt::evaluation_phase(static_cast<int>(k), static_cast<int>(e.returns.size())))
-          << ',' << CsvLog::num(e.returns[k]) << ',' << e.decisions[k] << ',' << CsvLog::num(e.band_fraction[k]) << ','
-          << e.reasons[k] << '\n';
-  });
-  io::write_file_atomically((dir / (which + "_trace.csv")).string(), [&](std::ostream& out) {
-    out << "decision,t_s,theta_rad,F_mN,strain,plate_z_mm,action" << (estimator ? ",F_hat_mN\n" : "\n");
-    for (const coopt::TraceRow& r : e.trace) {
-      out << r.decision << ',' << CsvLog::num(r.t_s) << ',' << CsvLog::num(r.theta_rad) << ',' << CsvLog::num(r.force_mN)
-          << ',' << CsvLog::num(r.strain) << ',' << CsvLog::num(r.plate_z_mm) << ',' << CsvLog::num(r.action);
-      if (estimator) out << ',' << CsvLog::num(estimator->force_mN(r.strain, r.theta_rad));
-      out << '\n';
-    }
-  });
-}
 
 void toml_test(std::ostream& out, double tuning_return, int evaluations, const coopt::DesignEvaluation& e) {
   out << "tuning_return = " << CsvLog::num(tuning_return) << "\n"
@@ -117,7 +96,7 @@ int run_baseline(const BaselineOptions& o) {
                   "samples of %d open-loop episodes (theta centred on %.3f deg): R^2 %.4f, rms %.2f mN\n",
                   name.c_str(), fit.estimator.c0, fit.estimator.c1, fit.estimator.c2, fit.samples, r.estimator.episodes,
                   r.estimator.theta_centre_rad * 180.0 / std::numbers::pi, fit.r2, fit.rms_mN);
-    write_eval(dir / "eval", name, r.test, estimate ? &fit.estimator : nullptr);
+    coopt::write_evaluation(dir / coopt::run_file::kEvalDir, name, r.test, estimate ? &fit.estimator : nullptr);
     std::printf("baseline: %-11s kp %.4g ki %.4g kd %.4g setpoint %.6g: tuning return %.2f (%d evaluations); "
                 "test return %.2f +- %.2f over %zu episodes (band %.0f%%)\n",
                 name.c_str(), r.pid.gains.kp, r.pid.gains.ki, r.pid.gains.kd, r.pid.setpoint, r.tuning_return,
@@ -146,7 +125,7 @@ int run_baseline(const BaselineOptions& o) {
   }
   const coopt::FixedThetaTuning ft =
       coopt::tune_fixed_theta(sims, task, es, setup.sweep.fixed_theta, pc.tuning_phases, pc.test_episodes, threads);
-  write_eval(dir / "eval", "fixed_theta", ft.test);
+  coopt::write_evaluation(dir / coopt::run_file::kEvalDir, "fixed_theta", ft.test);
   std::printf("baseline: %-11s theta0 %.3f deg: tuning return %.2f (%d evaluations); test return %.2f +- %.2f over "
               "%zu episodes (band %.0f%%)\n",
               "fixed_theta", ft.theta0_rad * 180.0 / std::numbers::pi, ft.tuning_return, ft.evaluations,

@@ -14,11 +14,11 @@
 #include "codesign/policy_controller.hpp"
 #include "codesign/refine.hpp"
 #include "codesign/run.hpp"
+#include "codesign/run_folder.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
-#include "fem/design.hpp"
+#include "io/csv_log.hpp"
 #include "io/run_lock.hpp"
-#include "io/toml_reader.hpp"
 #include "rl/policy_file.hpp"
 #include "sim_setup.hpp"
 
@@ -41,22 +41,24 @@ int run_refine(const RefineCliOptions& o) {
   const fs::path dir(o.run);
   // It rewrites DIR/result.toml: not while a run writes the folder.
   const std::unique_ptr<io::RunLock> lock = coopt::lock_run_folder(o.run, /*only_if_exists=*/true);
-  for (const char* f : {"config.toml", "policy.bin", "result.toml"})
+  for (const char* f : {coopt::run_file::kConfig, coopt::run_file::kPolicy, coopt::run_file::kResult})
     if (!fs::exists(dir / f))
       throw InputError(dir.string() + ": has no " + f + "; refine needs a finished co-design run folder");
-  const SimSetup setup = read_sim_setup((dir / "config.toml").string());
-  const std::string result_path = (dir / "result.toml").string();
-  io::TableReader result = io::TableReader::from_file(result_path);
-  io::TableReader best = result.table("best");
-  if (!best.has("design")) throw InputError(result_path + ": has no [best] design");
-  const int design = static_cast<int>(best.integer("design", 0, 0, fem::kDesignCount - 1));
-  const std::vector<double> p =
-      best.numbers("pressures_kPa", {0.0, 0.0}, 0.0, setup.task.pressure_max_kPa, 2, 2);
-  const auto loaded = std::make_shared<const rl::Policy>(rl::Policy::load(dir / "policy.bin"));
+  const SimSetup setup = read_sim_setup((dir / coopt::run_file::kConfig).string());
+  const std::string result_path = (dir / coopt::run_file::kResult).string();
+  const std::optional<coopt::ResultDesign> best = coopt::read_result_design(dir, "best");
+  if (!best) throw InputError(result_path + ": has no [best] design");
+  const int design = best->setup.design;
+  const std::vector<double> p{best->setup.p1_kPa, best->setup.p2_kPa};
+  for (const double v : p)
+    if (v > setup.task.pressure_max_kPa)
+      throw InputError(result_path + ": best.pressures_kPa: " + io::CsvLog::num(v) + " is out of range; allowed [0, " +
+                       io::CsvLog::num(setup.task.pressure_max_kPa) + "] (the run's task.pressure_max_kPa)");
+  const auto loaded = std::make_shared<const rl::Policy>(rl::Policy::load(dir / coopt::run_file::kPolicy));
   const rl::Policy& policy = *loaded;
   const int obs_dim = coopt::observation_dim(setup.task);
   if (policy.obs_dim() != obs_dim || policy.act_dim() != 1)
-    throw InputError((dir / "policy.bin").string() + ": policy has " + std::to_string(policy.obs_dim()) +
+    throw InputError((dir / coopt::run_file::kPolicy).string() + ": policy has " + std::to_string(policy.obs_dim()) +
                      " inputs and " + std::to_string(policy.act_dim()) + " outputs; the run's task needs " +
                      std::to_string(obs_dim) + " and 1");
   coopt::RefineConfig rc;
@@ -84,7 +86,7 @@ int run_refine(const RefineCliOptions& o) {
               "(%d evaluations)\n",
               r.p_after[0], r.p_after[1], r.tuning_after, r.test_after.mean_return, r.test_after.std_return,
               r.test_after.returns.size(), r.evaluations);
-  coopt::write_refined_table(result_path, r);
+  coopt::write_refined_result(dir, r);
   std::printf("refine: wrote [refined] into %s\n", result_path.c_str());
   return 0;
 }

@@ -26,6 +26,7 @@
 #include "codesign/evaluation.hpp"
 #include "codesign/policy_controller.hpp"
 #include "codesign/run.hpp"
+#include "codesign/run_folder.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
 #include "io/run_lock.hpp"
@@ -93,15 +94,17 @@ int run_render(const RenderCliOptions& o) {
   std::vector<std::vector<coopt::RecordedFrame>> seqs;
   if (!o.run.empty()) {
     const std::shared_ptr<const rl::Policy> policy =
-        coopt::load_task_policy(o.policy.empty() ? run_dir / "policy.bin" : fs::path(o.policy), task);
+        coopt::load_task_policy(o.policy.empty() ? run_dir / coopt::run_file::kPolicy : fs::path(o.policy), task);
     std::vector<std::string> whiches;
     if (o.which == "both")
       whiches = {"best", "runner_up"};
     else
       whiches = {o.which};
     for (const std::string& w : whiches) {
-      std::optional<coopt::EpisodeSetup> s = coopt::result_design(run_dir, w);
-      if (!s) throw InputError((run_dir / "result.toml").string() + ": has no [" + w + "] design");
+      const std::optional<coopt::ResultDesign> result = coopt::read_result_design(run_dir, w);
+      if (!result)
+        throw InputError((run_dir / coopt::run_file::kResult).string() + ": has no [" + w + "] design");
+      std::optional<coopt::EpisodeSetup> s = result->setup;
       s->plate_phase_rad = phase;
       seqs.push_back(coopt::record_episode(sims, task, *s, coopt::episode_controller(policy), rc.every_steps,
                                            (w == "best" ? "d*: " : "runner-up: ") +

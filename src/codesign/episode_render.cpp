@@ -12,6 +12,7 @@
 #include "base/errors.hpp"
 #include "base/file_write.hpp"
 #include "codesign/policy_controller.hpp"
+#include "codesign/run_folder.hpp"
 #include "fem/design.hpp"
 #include "fem/mesh_ops.hpp"
 #include "io/atomic_file.hpp"
@@ -276,18 +277,6 @@ int write_frames(const fs::path& dir, const std::vector<std::vector<RecordedFram
   return static_cast<int>(frames);
 }
 
-std::optional<EpisodeSetup> result_design(const fs::path& run_dir, const std::string& which) {
-  io::TableReader result = io::TableReader::from_file((run_dir / "result.toml").string());
-  if (!result.has(which)) return std::nullopt;
-  io::TableReader t = result.table(which);
-  EpisodeSetup setup;
-  setup.design = static_cast<int>(t.integer("design", 0, 0, fem::kDesignCount - 1));
-  const std::vector<double> p = t.numbers("pressures_kPa", {0.0, 0.0}, 0.0, 1e3, 2, 2);
-  setup.p1_kPa = p[0];
-  setup.p2_kPa = p[1];
-  return setup;
-}
-
 std::shared_ptr<const rl::Policy> load_task_policy(const fs::path& policy_file, const TaskConfig& task) {
   auto policy = std::make_shared<const rl::Policy>(rl::Policy::load(policy_file));
   if (policy->obs_dim() != observation_dim(task) || policy->act_dim() != 1)
@@ -301,10 +290,11 @@ std::shared_ptr<const rl::Policy> load_task_policy(const fs::path& policy_file, 
 
 void render_run_frames(const fs::path& run_dir, const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task,
                        int eval_episodes, const io::RenderConfig& config, bool force) {
-  const std::shared_ptr<const rl::Policy> policy = load_task_policy(run_dir / "policy.bin", task);
+  const std::shared_ptr<const rl::Policy> policy = load_task_policy(run_dir / run_file::kPolicy, task);
   for (const char* which : {"best", "runner_up"}) {
-    std::optional<EpisodeSetup> setup = result_design(run_dir, which);
-    if (!setup) continue;
+    const std::optional<ResultDesign> result = read_result_design(run_dir, which);
+    if (!result) continue;
+    std::optional<EpisodeSetup> setup = result->setup;
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<RecordedFrame> frames;
     const std::string label = std::string(which) == "best" ? "d*: " : "runner-up: ";

@@ -72,9 +72,6 @@ std::vector<RecordedFrame> record_scenario(const std::shared_ptr<SimulatorPool>&
 int write_frames(const std::filesystem::path& dir, const std::vector<std::vector<RecordedFrame>>& sequences,
                  const io::RenderConfig& config, bool force);
 
-// d* ("best") or the runner-up ("runner_up") of RUN_DIR/result.toml, at plate phase 0;
-// nullopt when the file has no such table (single-design runs have no runner-up).
-std::optional<EpisodeSetup> result_design(const std::filesystem::path& run_dir, const std::string& which);
 // A policy file (rl::Policy) for the task; throws InputError if the policy's observation size does
 // not fit the task's observation set. Its controllers: policy_controller.hpp (one per episode).
 std::shared_ptr<const rl::Policy> load_task_policy(const std::filesystem::path& policy_file, const TaskConfig& task);

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "base/errors.hpp"
+#include "codesign/run_folder.hpp"
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_table.hpp"
@@ -107,15 +108,14 @@ int design_cell(const io::CsvTable& t, std::size_t r, std::size_t c) {
   return static_cast<int>(j);
 }
 
-EvalDesign read_eval_design(io::TableReader& root, const std::string& key) {
-  io::TableReader t = root.table(key);
+std::optional<EvalDesign> read_eval_design(const fs::path& dir, const std::string& key) {
+  const std::optional<ResultDesign> r = read_result_design(dir, key);
+  if (!r) return std::nullopt;
   EvalDesign d;
-  if (!t.has("design")) t.fail("design", "missing");
-  d.design = static_cast<int>(t.integer("design", 0, 0, fem::kDesignCount - 1));
-  const std::vector<double> p = t.numbers("pressures_kPa", {0.0, 0.0}, 0.0, 1e6, 1, 2);
-  d.pressures_kPa[0] = p[0];
-  d.pressures_kPa[1] = p.size() > 1 ? p[1] : 0.0;
-  d.test_return = t.number("test_return", 0.0, -1e12, 1e12);
+  d.design = r->setup.design;
+  d.pressures_kPa[0] = r->setup.p1_kPa;
+  d.pressures_kPa[1] = r->setup.p2_kPa;
+  d.test_return = r->test_return;
   return d;
 }
 
@@ -220,11 +220,10 @@ RunFigureData read_run_figure_data(const std::string& dir_name) {
     }
   }
 
-  const fs::path result = dir / "result.toml";
-  if (fs::exists(result)) {
-    io::TableReader root = io::TableReader::from_file(result.string());
-    d.best = read_eval_design(root, "best");
-    if (root.has("runner_up")) d.runner_up = read_eval_design(root, "runner_up");
+  if (fs::exists(dir / run_file::kResult)) {
+    d.best = read_eval_design(dir, "best");
+    if (!d.best) throw InputError((dir / run_file::kResult).string() + ": has no [best] table");
+    d.runner_up = read_eval_design(dir, "runner_up");
     read_trace(dir, "best", d.best_trace, d.best_trace_return);
     read_trace(dir, "runner_up", d.runner_up_trace, d.runner_up_trace_return);
   }

@@ -1,12 +1,10 @@
 #include "codesign/refine.hpp"
 
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 #include "base/errors.hpp"
 #include "fem/design.hpp"
-#include "io/atomic_file.hpp"
 #include "io/csv_log.hpp"
 
 namespace codesign::coopt {
@@ -108,15 +106,6 @@ std::string with_refined_table(const std::string& text, const RefineResult& r) {
     << "test_return_std = " << num(r.test_after.std_return) << "\n"
     << "band_fraction = " << num(r.test_after.mean_band_fraction) << "\n";
   return base + o.str();
-}
-
-void write_refined_table(const std::string& path, const RefineResult& r) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot read");
-  std::ostringstream text;
-  text << in.rdbuf();
-  const std::string out = with_refined_table(text.str(), r);
-  io::write_file_atomically(path, [&](std::ostream& o) { o << out; }, true);
 }
 
 }  // namespace codesign::coopt

@@ -24,6 +24,7 @@
 #include "codesign/evaluation.hpp"
 #include "codesign/failure_count.hpp"
 #include "codesign/policy_controller.hpp"
+#include "codesign/run_folder.hpp"
 #include "codesign/stop_signals.hpp"
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
@@ -277,38 +278,6 @@ codesign_lcm::sim_step_t sim_step_message(const EpisodeSetup& setup, const Trace
 void publish_trace(io::Telemetry& tel, const DesignEvaluation& e, std::int64_t t) {
   if (!tel.enabled()) return;
   for (const TraceRow& r : e.trace) tel.publish(sim_step_message(e.setup, r, t));
-}
-
-void write_eval(const fs::path& dir, const std::string& which, const DesignEvaluation& e) {
-  fs::create_directories(dir);
-  io::write_file_atomically((dir / (which + ".csv")).string(), [&](std::ostream& out) {
-    out << "episode,phase_rad,return,decisions,band_fraction,reason\n";
-    for (std::size_t k = 0; k < e.returns.size(); ++k)
-      out << k << ',' << num(evaluation_phase(static_cast<int>(k), static_cast<int>(e.returns.size()))) << ','
-          << num(e.returns[k]) << ',' << e.decisions[k] << ',' << num(e.band_fraction[k]) << ',' << e.reasons[k]
-          << '\n';
-  });
-  io::write_file_atomically((dir / (which + "_trace.csv")).string(), [&](std::ostream& out) {
-    out << "decision,t_s,theta_rad,F_mN,strain,tip_x_mm,tip_y_mm,tip_z_mm,plate_z_mm,action\n";
-    for (const TraceRow& r : e.trace)
-      out << r.decision << ',' << num(r.t_s) << ',' << num(r.theta_rad) << ',' << num(r.force_mN) << ','
-          << num(r.strain) << ',' << num(r.tip_mm.x()) << ',' << num(r.tip_mm.y()) << ',' << num(r.tip_mm.z()) << ','
-          << num(r.plate_z_mm) << ',' << num(r.action) << '\n';
-  });
-}
-
-void toml_design(std::ostream& out, const std::string& section, const DesignEvaluation& e, int episodes) {
-  const fem::Design d = fem::design_from_index(e.setup.design);
-  out << "[" << section << "]\n"
-      << "design = " << e.setup.design << "\n"
-      << "n = " << d.n << "\n"
-      << "l_mm = " << num(d.chamber_length_mm) << "\n"
-      << "w_mm = " << num(d.wall_mm) << "\n"
-      << "pressures_kPa = [" << num(e.setup.p1_kPa) << ", " << num(e.setup.p2_kPa) << "]\n"
-      << "test_return = " << num(e.mean_return) << "   # mean over the evaluation episodes\n"
-      << "test_return_std = " << num(e.std_return) << "\n"
-      << "test_episodes = " << episodes << "\n"
-      << "band_fraction = " << num(e.mean_band_fraction) << "   # decisions with F inside the band\n\n";
 }
 
 }  // namespace
@@ -569,7 +538,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   eo.episodes = c.eval_episodes;
   eo.threads = options.threads;
   const DesignEvaluation eb = evaluate_feedback(policy, sims, lc.task, best, eo);
-  write_eval(dir / "eval", "best", eb);
+  write_evaluation(dir / run_file::kEvalDir, "best", eb);
   if (telemetry->enabled()) {
     const PublishMeter::Scope timed(meter, static_cast<std::int64_t>(eb.trace.size()));
     publish_trace(*telemetry, eb, loop.timesteps());
@@ -578,7 +547,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   std::optional<DesignEvaluation> er;
   if (has_runner) {
     er = evaluate_feedback(policy, sims, lc.task, runner, eo);
-    write_eval(dir / "eval", "runner_up", *er);
+    write_evaluation(dir / run_file::kEvalDir, "runner_up", *er);
     if (telemetry->enabled()) {
       const PublishMeter::Scope timed(meter, static_cast<std::int64_t>(er->trace.size()));
       publish_trace(*telemetry, *er, loop.timesteps());
@@ -595,27 +564,21 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   rl::save_policy(dir / "policy.bin", final_policy->contents());
   result.wall_s = elapsed();
   const double wall_total = wall_before + result.wall_s;
-  io::write_file_atomically((dir / "result.toml").string(), [&](std::ostream& out) {
-    out << "# codesign result: d* and the runner-up, each evaluated with the deterministic final policy over "
-        << c.eval_episodes << " episodes\n# (plate phases 2*pi*(k + 1/2)/" << c.eval_episodes << ").\n\n";
-    toml_design(out, "best", eb, c.eval_episodes);
-    if (er) toml_design(out, "runner_up", *er, c.eval_episodes);
-    if (fixed)
-      out << "[best_fixed_theta]   # d* at p* with the base held at the best constant angle (no controller)\n"
-          << "theta0_deg = " << num(fixed->theta0_rad * 180.0 / std::numbers::pi) << "   # tuned on "
-          << c.fixed_theta_phases << " plate phases 2*pi*(i + 0.618...)/" << c.fixed_theta_phases << "\n"
-          << "test_return = " << num(fixed->test.mean_return) << "   # over the same test episodes as [best]\n"
-          << "test_return_std = " << num(fixed->test.std_return) << "\n"
-          << "band_fraction = " << num(fixed->test.mean_band_fraction) << "\n\n";
-    out << "[run]\n"
-        << "timesteps = " << loop.timesteps() << "\n"
-        << "iterations = " << loop.iteration() << "\n"
-        << "seed = " << c.seed << "\n"
-        << "observation = \"" << to_string(lc.task.observation) << "\"\n"
-        << "baseline = \"" << (c.baseline == Baseline::SingleDesign ? "single_design" : "none") << "\"\n"
-        << "numerical_failures = " << numerical << "   # training episodes ended by a numerical failure (episodes.csv)\n"
-        << "wall_s = " << num(wall_total) << "   # wall-clock: the only field that differs between reruns\n";
-  });
+  ResultFile rr;
+  rr.eval_episodes = c.eval_episodes;
+  rr.best = result_design(eb);
+  if (er) rr.runner_up = result_design(*er);
+  if (fixed)
+    rr.fixed_theta = ResultFixedTheta{fixed->theta0_rad, c.fixed_theta_phases, fixed->test.mean_return,
+                                      fixed->test.std_return, fixed->test.mean_band_fraction};
+  rr.run.timesteps = loop.timesteps();
+  rr.run.iterations = loop.iteration();
+  rr.run.seed = c.seed;
+  rr.run.observation = to_string(lc.task.observation);
+  rr.run.baseline = c.baseline == Baseline::SingleDesign ? "single_design" : "none";
+  rr.run.numerical_failures = numerical;
+  rr.run.wall_s = wall_total;
+  write_result(dir, rr);
   std::printf("codesign: d* = %s, p* = [%.4g, %.4g] kPa: test return %.2f +- %.2f over %d episodes (band %.0f%%)\n",
               design_label(best.design).c_str(), best.p1_kPa, best.p2_kPa, eb.mean_return, eb.std_return,
               c.eval_episodes, 100.0 * eb.mean_band_fraction);

@@ -3,17 +3,12 @@
 // budget on a shortened task.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "codesign/refine.hpp"
 #include "io/toml_reader.hpp"
 
 namespace codesign::coopt {
 namespace {
-
-namespace fs = std::filesystem;
 
 const char* kResult =
     "# codesign result: d* and the runner-up\n\n"
@@ -61,17 +56,6 @@ TEST(Refine, TableIsAppendedAndEveryEarlierByteKept) {
   // A file without a final newline gets one before the table; nothing else changes.
   const std::string cut = std::string(kResult).substr(0, std::string(kResult).size() - 1);
   EXPECT_EQ(with_refined_table(cut, sample_result()).substr(0, cut.size()), cut);
-}
-
-TEST(Refine, WritesTheFileAtomically) {
-  const fs::path p = fs::path(::testing::TempDir()) / "codesign_refine_result.toml";
-  std::ofstream(p, std::ios::binary) << kResult;
-  write_refined_table(p.string(), sample_result());
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  EXPECT_EQ(s.str(), with_refined_table(kResult, sample_result()));
-  EXPECT_FALSE(fs::exists(p.string() + ".tmp"));
 }
 
 TEST(Refine, PolishKeepsBoundsAndBudgetAndNeverWorsens) {
