@@ -5,16 +5,22 @@
 // "no_feedback"); the single-design baseline is `baseline` here.
 #include <cstdint>
 
+#include "base/enum_names.hpp"
+
 namespace codesign::coopt {
 
 enum class Baseline { None, SingleDesign };
+inline constexpr EnumNames<Baseline, 2> kBaselineNames{{{Baseline::None, "none"}, {Baseline::SingleDesign, "single_design"}}};
+inline const char* to_string(Baseline b) { return name_of(kBaselineNames, b).data(); }
 
 // How β(t) of q_disc = softmax(β R̂) is set from T1 on (docs/codesign.md, "Phases and β"):
 //   Ramp     the paper's: linear from beta_start at T1 to beta_end at T2, beta_end after.
 //   Entropy  ours, after Schaff et al.: at each t, the β ≥ 0 whose softmax has the entropy of a
 //            line from ln n at T1 to entropy_end at T2 (entropy_end after), found by bisection.
 enum class BetaSchedule { Ramp, Entropy };
-inline const char* to_string(BetaSchedule s) { return s == BetaSchedule::Entropy ? "entropy" : "ramp"; }
+inline constexpr EnumNames<BetaSchedule, 2> kBetaScheduleNames{{{BetaSchedule::Ramp, "ramp"},
+                                                                {BetaSchedule::Entropy, "entropy"}}};
+inline const char* to_string(BetaSchedule s) { return name_of(kBetaScheduleNames, s).data(); }
 
 // Default target entropy of q_disc at T2 for the entropy schedule: ln 3 nats (perplexity 3, about
 // three designs still drawn when the distribution collapses; issue 18 asks for H(q_disc) ≤ ln 3

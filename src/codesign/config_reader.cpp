@@ -26,17 +26,13 @@ TaskConfig read_task_config(io::TableReader& root) {
   c.kappa = t.number("kappa", c.kappa, 0.1, 10.0);
   c.smooth_penalty = t.number("smooth_penalty", c.smooth_penalty, 0.0, 10.0);
   c.flip_penalty = t.number("flip_penalty", c.flip_penalty, 0.0, 10.0);
-  const std::string obs = t.string("observation", to_string(c.observation), {"paper", "proprioceptive", "no_feedback"});
-  c.observation = obs == "proprioceptive" ? ObservationSet::Proprioceptive
-                  : obs == "no_feedback"  ? ObservationSet::NoFeedback
-                                          : ObservationSet::Paper;
+  c.observation = t.choice("observation", c.observation, kObservationSetNames);
   c.history = static_cast<int>(t.integer("history", c.history, 0, c.episode_steps / c.action_hold_steps - 1));
   c.strain_min = t.number("strain_min", c.strain_min, -1.0, 1.0);
   c.strain_max = t.number("strain_max", c.strain_max, -1.0, 1.0);
   if (!(c.strain_max > c.strain_min))
     t.fail("strain_max", "must exceed task.strain_min (" + std::to_string(c.strain_min) + ")");
-  const std::string off = t.string("strain_offset", to_string(c.strain_offset), {"none", "inflated"});
-  c.strain_offset = off == "inflated" ? StrainOffset::Inflated : StrainOffset::None;
+  c.strain_offset = t.choice("strain_offset", c.strain_offset, kStrainOffsetNames);
   c.zeroed_strain_min = t.number("zeroed_strain_min", c.zeroed_strain_min, -1.0, 1.0);
   c.zeroed_strain_max = t.number("zeroed_strain_max", c.zeroed_strain_max, -1.0, 1.0);
   if (!(c.zeroed_strain_max > c.zeroed_strain_min))
@@ -65,8 +61,7 @@ CodesignConfig read_codesign_config(io::TableReader& root, const TaskConfig& tas
   c.phi = t.number("phi", c.phi, 0.0, 1.0);
   c.beta_start = t.number("beta_start", c.beta_start, 0.0, 1e3);
   c.beta_end = t.number("beta_end", c.beta_end, 0.0, 1e3);
-  const std::string schedule = t.string("beta_schedule", to_string(c.beta_schedule), {"ramp", "entropy"});
-  c.beta_schedule = schedule == "entropy" ? BetaSchedule::Entropy : BetaSchedule::Ramp;
+  c.beta_schedule = t.choice("beta_schedule", c.beta_schedule, kBetaScheduleNames);
   // At most ln 110 = 4.70048: the entropy of the uniform distribution over the designs, q_disc at T1.
   const double max_entropy = std::log(static_cast<double>(fem::kDesignCount));
   c.entropy_end = t.number("entropy_end", c.entropy_end, 0.0, max_entropy);
@@ -74,8 +69,7 @@ CodesignConfig read_codesign_config(io::TableReader& root, const TaskConfig& tas
   c.latent_mu0 = t.number("latent_mu0", c.latent_mu0, -10.0, 10.0);
   c.latent_sigma0 = t.number("latent_sigma0", c.latent_sigma0, 1e-6, 10.0);
   c.latent_sigma_min = t.number("latent_sigma_min", c.latent_sigma_min, 1e-9, c.latent_sigma0);
-  const std::string b = t.string("baseline", "none", {"none", "single_design"});
-  c.baseline = b == "single_design" ? Baseline::SingleDesign : Baseline::None;
+  c.baseline = t.choice("baseline", c.baseline, kBaselineNames);
   c.single_design_index =
       static_cast<int>(t.integer("single_design_index", c.single_design_index, 0, fem::kDesignCount - 1));
   c.single_design_p1_kPa = t.number("single_design_p1_kPa", c.single_design_p1_kPa, 0.0, task.pressure_max_kPa);

@@ -54,7 +54,7 @@ void write_codesign_table(std::ostream& out, const CodesignConfig& c) {
   t.number("latent_mu0", c.latent_mu0);
   t.number("latent_sigma0", c.latent_sigma0);
   t.number("latent_sigma_min", c.latent_sigma_min);
-  t.string("baseline", c.baseline == Baseline::SingleDesign ? "single_design" : "none");
+  t.string("baseline", to_string(c.baseline));
   t.integer("single_design_index", c.single_design_index);
   t.number("single_design_p1_kPa", c.single_design_p1_kPa);
   t.number("single_design_p2_kPa", c.single_design_p2_kPa);

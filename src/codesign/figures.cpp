@@ -146,17 +146,17 @@ std::optional<int> RunFigureData::second_design() const {
     if (runner_up) return runner_up->design;
     return std::nullopt;
   }
-  if (baseline == "single_design") return std::nullopt;
+  if (baseline == Baseline::SingleDesign) return std::nullopt;
   for (const int j : updates.back().top)
     if (j != leading_design()) return j;
   return std::nullopt;
 }
 
 std::string RunFigureData::default_label() const {
-  std::string l = baseline == "single_design" ? "single-design"
-                  : observation == "no_feedback" ? "no-feedback"
+  std::string l = baseline == Baseline::SingleDesign          ? "single-design"
+                  : observation == ObservationSet::NoFeedback ? "no-feedback"
                                                  : "co-design";
-  if (observation == "proprioceptive") l += " (proprioceptive)";
+  if (observation == ObservationSet::Proprioceptive) l += " (proprioceptive)";
   return l;
 }
 
@@ -174,11 +174,11 @@ RunFigureData read_run_figure_data(const std::string& dir_name) {
     io::TableReader task = root.table("task");
     d.target_force_mN = task.number("target_force_mN", 20.0, 1e-9, 1e9);
     d.tolerance_fraction = task.number("tolerance_fraction", 0.2, 1e-9, 1.0);
-    d.observation = task.string("observation", "paper");
+    d.observation = task.choice("observation", ObservationSet::Paper, kObservationSetNames);
     io::TableReader cd = root.table("codesign");
     d.exploration_end = static_cast<double>(cd.integer("exploration_end", 0, 0, INT64_MAX));
     d.exploitation_start = static_cast<double>(cd.integer("exploitation_start", 0, 0, INT64_MAX));
-    d.baseline = cd.string("baseline", "none");
+    d.baseline = cd.choice("baseline", Baseline::None, kBaselineNames);
   }
 
   {
@@ -344,7 +344,7 @@ PreparedFigures prepare_figures(const FigureOptions& o) {
   const int dstar = run.leading_design();
   const int dstar_n = fem::design_from_index(dstar).n;
   const double t_end = static_cast<double>(run.samples.back().t);
-  const bool has_phases = run.baseline != "single_design";
+  const bool has_phases = run.baseline != Baseline::SingleDesign;
 
   // ---- fig2a: every sampled return, moving average, best so far, d*'s running mean, phases
   {
@@ -536,7 +536,7 @@ PreparedFigures prepare_figures(const FigureOptions& o) {
     if (run.runner_up && !run.runner_up_trace.empty())
       curves.push_back({label_of("runner-up ", *run.runner_up, run.runner_up_trace_return), &run.runner_up_trace});
     for (const auto& [label, r] : others)
-      if (r.observation == "no_feedback" && r.best && !r.best_trace.empty())
+      if (r.observation == ObservationSet::NoFeedback && r.best && !r.best_trace.empty())
         curves.push_back({label_of(label + ": d* ", *r.best, r.best_trace_return), &r.best_trace});
     std::ostringstream s;
     s << "# fig3: the first evaluation episode (eval/<which>_trace.csv), one block per curve (gnuplot index)\n";

@@ -31,6 +31,8 @@
 #include <utility>
 #include <vector>
 
+#include "codesign/codesign_config.hpp"
+#include "codesign/task_config.hpp"
 #include "io/gnuplot.hpp"
 
 namespace codesign::coopt {
@@ -88,8 +90,8 @@ struct TracePoint {   // one row of eval/<which>_trace.csv
 
 struct RunFigureData {
   std::string dir;
-  std::string observation = "paper";   // [task] observation
-  std::string baseline = "none";       // [codesign] baseline
+  ObservationSet observation = ObservationSet::Paper;  // [task] observation
+  Baseline baseline = Baseline::None;                  // [codesign] baseline
   double target_force_mN = 20, tolerance_fraction = 0.2;
   double exploration_end = 0, exploitation_start = 0;   // T1, T2
   std::vector<SampleRow> samples;

@@ -575,7 +575,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   rr.run.iterations = loop.iteration();
   rr.run.seed = c.seed;
   rr.run.observation = to_string(lc.task.observation);
-  rr.run.baseline = c.baseline == Baseline::SingleDesign ? "single_design" : "none";
+  rr.run.baseline = to_string(c.baseline);
   rr.run.numerical_failures = numerical;
   rr.run.wall_s = wall_total;
   write_result(dir, rr);

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <numbers>
 
+#include "base/enum_names.hpp"
+
 namespace codesign::coopt {
 
 // Which observation the policy sees (whisker_env.hpp lists the components):
@@ -12,15 +14,10 @@ namespace codesign::coopt {
 //   Proprioceptive {j, p, ε, θ}   ours: the motor encoder's base angle added (SPEC §3)
 //   NoFeedback     {p}            the paper's no-feedback baseline: ε and morphology removed
 enum class ObservationSet { Paper, Proprioceptive, NoFeedback };
-
-inline const char* to_string(ObservationSet s) {
-  switch (s) {
-    case ObservationSet::Paper: return "paper";
-    case ObservationSet::Proprioceptive: return "proprioceptive";
-    case ObservationSet::NoFeedback: return "no_feedback";
-  }
-  return "?";
-}
+inline constexpr EnumNames<ObservationSet, 3> kObservationSetNames{{{ObservationSet::Paper, "paper"},
+                                                                    {ObservationSet::Proprioceptive, "proprioceptive"},
+                                                                    {ObservationSet::NoFeedback, "no_feedback"}}};
+inline const char* to_string(ObservationSet s) { return name_of(kObservationSetNames, s).data(); }
 
 // What the strain observation is measured from (ours; the paper does not say):
 //   None      ε as the simulator reports it, scaled by [strain_min, strain_max]. Inflating the
@@ -32,7 +29,9 @@ inline const char* to_string(ObservationSet s) {
 //             PPO learns the task about three times faster (docs/results.md, "Zeroed strain").
 enum class StrainOffset { None, Inflated };
 
-inline const char* to_string(StrainOffset s) { return s == StrainOffset::Inflated ? "inflated" : "none"; }
+inline constexpr EnumNames<StrainOffset, 2> kStrainOffsetNames{{{StrainOffset::None, "none"},
+                                                                {StrainOffset::Inflated, "inflated"}}};
+inline const char* to_string(StrainOffset s) { return name_of(kStrainOffsetNames, s).data(); }
 
 // Numerical failure injection ([faults]; off by default): a test of the claim that a numerical
 // failure of the simulator ends only the episode it happens in, with a logged reason

@@ -6,16 +6,7 @@
 
 namespace codesign::fem {
 
-const char* to_string(StepStatus s) {
-  switch (s) {
-    case StepStatus::Ok: return "ok";
-    case StepStatus::NonFinite: return "non_finite";
-    case StepStatus::InvertedElement: return "inverted_element";
-    case StepStatus::SolverFailure: return "solver_failure";
-    case StepStatus::ContactFailure: return "contact_failure";
-  }
-  return "unknown";
-}
+const char* to_string(StepStatus s) { return name_of(kStepStatusNames, s).data(); }
 
 Simulator::Impl::Impl(std::shared_ptr<const Model> m, const SceneConfig& sc, const SolverConfig& so)
     : model(std::move(m)), scene(sc), solver(so) {

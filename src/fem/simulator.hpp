@@ -38,6 +38,7 @@
 
 #include <Eigen/Core>
 
+#include "base/enum_names.hpp"
 #include "base/range.hpp"
 #include "fem/model.hpp"
 #include "fem/scene.hpp"
@@ -46,6 +47,7 @@
 namespace codesign::fem {
 
 enum class StepMethod { Exact, Fast };
+inline constexpr EnumNames<StepMethod, 2> kStepMethodNames{{{StepMethod::Fast, "fast"}, {StepMethod::Exact, "exact"}}};
 
 // When the fast step's CG stops (‖r‖ the residual of the step's equations on the free DOFs, tol
 // = SolverConfig::fast_tolerance):
@@ -57,6 +59,7 @@ enum class StepMethod { Exact, Fast };
 //    both on the free DOFs: a residual force relative to the load of the design, independent
 //    of the velocities and of the warm start (docs/physics.md, "A stopping rule ...").
 enum class FastStop { Relative, Force };
+inline constexpr EnumNames<FastStop, 2> kFastStopNames{{{FastStop::Relative, "relative"}, {FastStop::Force, "force"}}};
 
 struct SolverConfig {
   StepMethod method = StepMethod::Fast;
@@ -88,6 +91,11 @@ inline constexpr Range<double> contact_margin_mm{0.0, 10.0};
 }  // namespace solver_range
 
 enum class StepStatus { Ok, NonFinite, InvertedElement, SolverFailure, ContactFailure };
+inline constexpr EnumNames<StepStatus, 5> kStepStatusNames{{{StepStatus::Ok, "ok"},
+                                                            {StepStatus::NonFinite, "non_finite"},
+                                                            {StepStatus::InvertedElement, "inverted_element"},
+                                                            {StepStatus::SolverFailure, "solver_failure"},
+                                                            {StepStatus::ContactFailure, "contact_failure"}}};
 const char* to_string(StepStatus s);
 
 struct StepResult {

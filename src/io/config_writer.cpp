@@ -102,13 +102,14 @@ void write_fem_tables(std::ostream& out, const fem::WhiskerModelSpec& spec, cons
   }
   {
     TomlTableWriter t(out, "solver");
-    t.string("method", solver.method == fem::StepMethod::Exact ? "exact" : "fast");
+    t.string("method", name_of(fem::kStepMethodNames, solver.method));
     t.number("dt_s", solver.dt_s);
     t.number("static_dt_s", solver.static_dt_s);
     t.number("fast_tolerance", solver.fast_tolerance);
     // Only when it is not the default, so the resolved configs (and fingerprints) of runs made
     // before the key existed stay as they were.
-    if (solver.fast_stop != fem::SolverConfig{}.fast_stop) t.string("fast_stop", "force");
+    if (solver.fast_stop != fem::SolverConfig{}.fast_stop)
+      t.string("fast_stop", name_of(fem::kFastStopNames, solver.fast_stop));
     t.integer("fast_max_iterations", solver.fast_max_iterations);
     t.integer("fast_refactor_iterations", solver.fast_refactor_iterations);
     t.number("contact_tolerance_mm", solver.contact_tolerance_mm);
@@ -174,7 +175,7 @@ void write_ppo_table(std::ostream& out, const rl::PpoConfig& c) {
   if (c.normalize_observations) t.boolean("normalize_observations", true);
   if (c.privileged_critic) t.boolean("privileged_critic", true);
   if (c.policy == rl::PolicyKind::Gru) {  // only when not the default, as the two keys above
-    t.string("policy", "gru");
+    t.string("policy", name_of(rl::kPolicyKindNames, c.policy));
     t.integer("gru_hidden", c.gru_hidden);
   }
   t.integers("actor_hidden", c.actor_hidden);

@@ -43,13 +43,11 @@ fem::SolverConfig read_solver(TableReader& root) {
   TableReader t = root.table("solver");
   fem::SolverConfig c;
   namespace range = fem::solver_range;
-  const std::string method = t.string("method", "fast", {"fast", "exact"});
-  c.method = method == "exact" ? fem::StepMethod::Exact : fem::StepMethod::Fast;
+  c.method = t.choice("method", c.method, fem::kStepMethodNames);
   c.dt_s = t.number("dt_s", c.dt_s, range::dt_s);
   c.static_dt_s = t.number("static_dt_s", c.static_dt_s, range::static_dt_s);
   c.fast_tolerance = t.number("fast_tolerance", c.fast_tolerance, range::fast_tolerance);
-  const std::string stop = t.string("fast_stop", "relative", {"relative", "force"});
-  c.fast_stop = stop == "force" ? fem::FastStop::Force : fem::FastStop::Relative;
+  c.fast_stop = t.choice("fast_stop", c.fast_stop, fem::kFastStopNames);
   c.fast_max_iterations = static_cast<int>(
       t.integer("fast_max_iterations", c.fast_max_iterations, range::fast_max_iterations));
   c.fast_refactor_iterations =

@@ -85,8 +85,7 @@ rl::PpoConfig read_ppo_config(TableReader& t, const rl::PpoConfig& d) {
   c.normalize_advantage = t.boolean("normalize_advantage", d.normalize_advantage);
   c.normalize_observations = t.boolean("normalize_observations", d.normalize_observations);
   c.privileged_critic = t.boolean("privileged_critic", d.privileged_critic);
-  const std::string kind = t.string("policy", d.policy == rl::PolicyKind::Gru ? "gru" : "mlp", {"mlp", "gru"});
-  c.policy = kind == "gru" ? rl::PolicyKind::Gru : rl::PolicyKind::Mlp;
+  c.policy = t.choice("policy", d.policy, rl::kPolicyKindNames);
   c.gru_hidden = d.gru_hidden;
   if (c.policy == rl::PolicyKind::Gru) {
     c.gru_hidden = static_cast<int>(t.integer("gru_hidden", d.gru_hidden, ppo_range::gru_hidden));

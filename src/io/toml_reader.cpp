@@ -225,8 +225,7 @@ bool TableReader::boolean(std::string_view key, bool def) {
   return *b;
 }
 
-std::string TableReader::string(std::string_view key, std::string def,
-                                std::initializer_list<std::string_view> allowed) {
+std::string TableReader::string(std::string_view key, std::string def, std::span<const std::string_view> allowed) {
   const auto* node = static_cast<const toml::node*>(lookup(key));
   std::string allowed_text;
   for (auto a : allowed) allowed_text += (allowed_text.empty() ? "\"" : ", \"") + std::string(a) + "\"";

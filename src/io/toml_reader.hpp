@@ -10,13 +10,17 @@
 //   cfg.youngs_modulus_kpa = mat.number("youngs_modulus_kPa", 500.0, 1.0, 1e5);
 //   mat.finish();
 //   root.finish();
+#include <array>
 #include <cstdint>
 #include <initializer_list>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
+#include "base/enum_names.hpp"
 #include "base/errors.hpp"
 #include "base/range.hpp"
 
@@ -57,7 +61,16 @@ class TableReader {
   bool boolean(std::string_view key, bool def);
   // `allowed` empty: any string.
   std::string string(std::string_view key, std::string def,
-                     std::initializer_list<std::string_view> allowed = {});
+                     std::initializer_list<std::string_view> allowed = {}) {
+    return string(key, std::move(def), std::span<const std::string_view>(allowed.begin(), allowed.size()));
+  }
+  std::string string(std::string_view key, std::string def, std::span<const std::string_view> allowed);
+  // A key naming one value of an enum by its string table (base/enum_names.hpp); def when absent.
+  template <class E, std::size_t N>
+  E choice(std::string_view key, E def, const EnumNames<E, N>& names) {
+    const std::array<std::string_view, N> allowed = names_in(names);
+    return *value_of(names, string(key, std::string(name_of(names, def)), allowed));
+  }
   // Arrays of numbers / integers, every element in [lo, hi], length in [min_len, max_len].
   std::vector<double> numbers(std::string_view key, std::vector<double> def, double lo, double hi,
                               std::size_t min_len, std::size_t max_len);

@@ -22,6 +22,7 @@
 
 #include <Eigen/Core>
 
+#include "base/enum_names.hpp"
 #include "base/range.hpp"
 #include "rl/actor_critic.hpp"
 #include "rl/adam.hpp"
@@ -34,6 +35,7 @@ namespace codesign::rl {
 // The policy network: the feed-forward actor-critic (actor_critic.hpp), or a GRU before each of
 // its MLPs (recurrent_actor_critic.hpp, updated by recurrent_ppo.hpp).
 enum class PolicyKind { Mlp, Gru };
+inline constexpr EnumNames<PolicyKind, 2> kPolicyKindNames{{{PolicyKind::Mlp, "mlp"}, {PolicyKind::Gru, "gru"}}};
 
 // Defaults are SB3's PPO defaults (MlpPolicy net_arch [64, 64]).
 struct PpoConfig {

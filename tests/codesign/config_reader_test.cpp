@@ -46,6 +46,35 @@ TEST(ConfigReader, BaselineSwitch) {
   EXPECT_EQ(read_task_config(t).observation, ObservationSet::NoFeedback);
 }
 
+// Every name of the four enum tables of [task] and [codesign] reads back as its value, the
+// writer's to_string gives the name back, and a bad value's message lists every name, in the
+// table's order.
+TEST(ConfigReader, EnumKeysReadEveryNameOfTheirTable) {
+  for (const auto& n : kObservationSetNames) {
+    io::TableReader r = io::TableReader::from_string("[task]\nobservation = \"" + std::string(n.name) + "\"\n", "run.toml");
+    EXPECT_EQ(read_task_config(r).observation, n.value);
+    EXPECT_EQ(to_string(n.value), n.name);
+  }
+  for (const auto& n : kStrainOffsetNames) {
+    io::TableReader r = io::TableReader::from_string("[task]\nstrain_offset = \"" + std::string(n.name) + "\"\n", "run.toml");
+    EXPECT_EQ(read_task_config(r).strain_offset, n.value);
+    EXPECT_EQ(to_string(n.value), n.name);
+  }
+  for (const auto& n : kBaselineNames) {
+    io::TableReader r = io::TableReader::from_string("[codesign]\nbaseline = \"" + std::string(n.name) + "\"\n", "run.toml");
+    EXPECT_EQ(read_codesign_config(r, TaskConfig{}).baseline, n.value);
+    EXPECT_EQ(to_string(n.value), n.name);
+  }
+  for (const auto& n : kBetaScheduleNames) {
+    io::TableReader r = io::TableReader::from_string("[codesign]\nbeta_schedule = \"" + std::string(n.name) + "\"\n", "run.toml");
+    EXPECT_EQ(read_codesign_config(r, TaskConfig{}).beta_schedule, n.value);
+    EXPECT_EQ(to_string(n.value), n.name);
+  }
+  EXPECT_EQ(error_of("[task]\nobservation = \"full\"\n", true),
+            "run.toml: task.observation: value \"full\" is not allowed; allowed: \"paper\", \"proprioceptive\", "
+            "\"no_feedback\"");
+}
+
 TEST(ConfigReader, HistoryIsBoundedByTheDecisionsPerEpisode) {
   io::TableReader ok = io::TableReader::from_string("[task]\nhistory = 49\n", "run.toml");
   EXPECT_EQ(read_task_config(ok).history, 49);
