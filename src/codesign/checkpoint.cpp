@@ -92,7 +92,8 @@ class Reader {
 }  // namespace
 
 std::vector<KeptCheckpoint> kept_checkpoints(const CodesignConfig& c) {
-  return {{c.exploration_end, "t1", "checkpoint_t1.bin"}, {c.exploitation_start, "t2", "checkpoint_t2.bin"}};
+  return {{c.distribution.exploration_end, "t1", "checkpoint_t1.bin"},
+          {c.distribution.exploitation_start, "t2", "checkpoint_t2.bin"}};
 }
 
 std::uint64_t fingerprint(const std::string& text) {

@@ -55,20 +55,20 @@ CodesignConfig read_codesign_config(io::TableReader& root, const TaskConfig& tas
   CodesignConfig c;
   c.total_timesteps = t.integer("total_timesteps", c.total_timesteps, 1, 1'000'000'000);
   c.designs_per_update = static_cast<int>(t.integer("designs_per_update", c.designs_per_update, 1, 1024));
-  c.exploitation_start = t.integer("exploitation_start", c.exploitation_start, 1, 1'000'000'000);
-  c.exploration_end = t.integer("exploration_end", c.exploration_end, 0, c.exploitation_start - 1);
-  c.alpha = t.number("alpha", c.alpha, 1e-9, 1.0);
-  c.phi = t.number("phi", c.phi, 0.0, 1.0);
-  c.beta_start = t.number("beta_start", c.beta_start, 0.0, 1e3);
-  c.beta_end = t.number("beta_end", c.beta_end, 0.0, 1e3);
-  c.beta_schedule = t.choice("beta_schedule", c.beta_schedule, kBetaScheduleNames);
+  c.distribution.exploitation_start = t.integer("exploitation_start", c.distribution.exploitation_start, 1, 1'000'000'000);
+  c.distribution.exploration_end = t.integer("exploration_end", c.distribution.exploration_end, 0, c.distribution.exploitation_start - 1);
+  c.distribution.alpha = t.number("alpha", c.distribution.alpha, 1e-9, 1.0);
+  c.distribution.phi = t.number("phi", c.distribution.phi, 0.0, 1.0);
+  c.distribution.beta_start = t.number("beta_start", c.distribution.beta_start, 0.0, 1e3);
+  c.distribution.beta_end = t.number("beta_end", c.distribution.beta_end, 0.0, 1e3);
+  c.distribution.beta_schedule = t.choice("beta_schedule", c.distribution.beta_schedule, kBetaScheduleNames);
   // At most ln 110 = 4.70048: the entropy of the uniform distribution over the designs, q_disc at T1.
   const double max_entropy = std::log(static_cast<double>(fem::kDesignCount));
-  c.entropy_end = t.number("entropy_end", c.entropy_end, 0.0, max_entropy);
-  c.reward_buffer = static_cast<int>(t.integer("reward_buffer", c.reward_buffer, 2, 100000));
-  c.latent_mu0 = t.number("latent_mu0", c.latent_mu0, -10.0, 10.0);
-  c.latent_sigma0 = t.number("latent_sigma0", c.latent_sigma0, 1e-6, 10.0);
-  c.latent_sigma_min = t.number("latent_sigma_min", c.latent_sigma_min, 1e-9, c.latent_sigma0);
+  c.distribution.entropy_end = t.number("entropy_end", c.distribution.entropy_end, 0.0, max_entropy);
+  c.distribution.reward_buffer = static_cast<int>(t.integer("reward_buffer", c.distribution.reward_buffer, 2, 100000));
+  c.distribution.latent_mu0 = t.number("latent_mu0", c.distribution.latent_mu0, -10.0, 10.0);
+  c.distribution.latent_sigma0 = t.number("latent_sigma0", c.distribution.latent_sigma0, 1e-6, 10.0);
+  c.distribution.latent_sigma_min = t.number("latent_sigma_min", c.distribution.latent_sigma_min, 1e-9, c.distribution.latent_sigma0);
   c.baseline = t.choice("baseline", c.baseline, kBaselineNames);
   c.single_design_index =
       static_cast<int>(t.integer("single_design_index", c.single_design_index, 0, fem::kDesignCount - 1));

@@ -40,20 +40,20 @@ void write_codesign_table(std::ostream& out, const CodesignConfig& c) {
   io::TomlTableWriter t(out, "codesign");
   t.integer("total_timesteps", c.total_timesteps);
   t.integer("designs_per_update", c.designs_per_update);
-  t.integer("exploitation_start", c.exploitation_start);
-  t.integer("exploration_end", c.exploration_end);
-  t.number("alpha", c.alpha);
-  t.number("phi", c.phi);
-  t.number("beta_start", c.beta_start);
-  t.number("beta_end", c.beta_end);
+  t.integer("exploitation_start", c.distribution.exploitation_start);
+  t.integer("exploration_end", c.distribution.exploration_end);
+  t.number("alpha", c.distribution.alpha);
+  t.number("phi", c.distribution.phi);
+  t.number("beta_start", c.distribution.beta_start);
+  t.number("beta_end", c.distribution.beta_end);
   // Both written only when not the default, so that a ramp run's config.toml (and checkpoint
   // fingerprint) is what it was before the keys existed.
-  if (c.beta_schedule != CodesignConfig{}.beta_schedule) t.string("beta_schedule", to_string(c.beta_schedule));
-  if (c.entropy_end != CodesignConfig{}.entropy_end) t.number("entropy_end", c.entropy_end);
-  t.integer("reward_buffer", c.reward_buffer);
-  t.number("latent_mu0", c.latent_mu0);
-  t.number("latent_sigma0", c.latent_sigma0);
-  t.number("latent_sigma_min", c.latent_sigma_min);
+  if (c.distribution.beta_schedule != CodesignConfig{}.distribution.beta_schedule) t.string("beta_schedule", to_string(c.distribution.beta_schedule));
+  if (c.distribution.entropy_end != CodesignConfig{}.distribution.entropy_end) t.number("entropy_end", c.distribution.entropy_end);
+  t.integer("reward_buffer", c.distribution.reward_buffer);
+  t.number("latent_mu0", c.distribution.latent_mu0);
+  t.number("latent_sigma0", c.distribution.latent_sigma0);
+  t.number("latent_sigma_min", c.distribution.latent_sigma_min);
   t.string("baseline", to_string(c.baseline));
   t.integer("single_design_index", c.single_design_index);
   t.number("single_design_p1_kPa", c.single_design_p1_kPa);

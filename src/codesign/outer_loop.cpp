@@ -45,20 +45,8 @@ rl::ActorCritic feed_forward_model(const LoopConfig& c, const EnvPool& envs) {
 }  // namespace
 
 DistributionConfig distribution_config(const CodesignConfig& c, const TaskConfig& task) {
-  DistributionConfig d;
-  d.exploration_end = c.exploration_end;
-  d.exploitation_start = c.exploitation_start;
-  d.alpha = c.alpha;
-  d.phi = c.phi;
-  d.beta_start = c.beta_start;
-  d.beta_end = c.beta_end;
-  d.beta_schedule = c.beta_schedule;
-  d.entropy_end = c.entropy_end;
-  d.reward_buffer = c.reward_buffer;
+  DistributionConfig d = c.distribution;
   d.pressure_max_kPa = task.pressure_max_kPa;
-  d.latent_mu0 = c.latent_mu0;
-  d.latent_sigma0 = c.latent_sigma0;
-  d.latent_sigma_min = c.latent_sigma_min;
   return d;
 }
 

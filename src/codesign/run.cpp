@@ -380,7 +380,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     }
     wall_before = ckpt->wall_s;
   }
-  Logs logs(dir, ckpt ? &ckpt->logs : nullptr, lc.codesign.beta_schedule == BetaSchedule::Entropy);
+  Logs logs(dir, ckpt ? &ckpt->logs : nullptr, lc.codesign.distribution.beta_schedule == BetaSchedule::Entropy);
   // Training episodes ended by a numerical failure so far (episodes.csv holds those before a resume).
   std::int64_t numerical = count_numerical_failures((dir / "episodes.csv").string());
   const std::unique_ptr<io::Telemetry> telemetry = io::make_telemetry(options.telemetry_url);

@@ -54,10 +54,10 @@ DesignSample design(int j) {
 }
 
 TEST(BetaSchedule, DefaultsAreTheRampAndLn3) {
-  EXPECT_EQ(CodesignConfig{}.beta_schedule, BetaSchedule::Ramp);
+  EXPECT_EQ(CodesignConfig{}.distribution.beta_schedule, BetaSchedule::Ramp);
   EXPECT_EQ(DistributionConfig{}.beta_schedule, BetaSchedule::Ramp);
   EXPECT_EQ(kDefaultEntropyEnd, std::log(3.0));
-  EXPECT_EQ(CodesignConfig{}.entropy_end, std::log(3.0));
+  EXPECT_EQ(CodesignConfig{}.distribution.entropy_end, std::log(3.0));
   EXPECT_EQ(DistributionConfig{}.entropy_end, std::log(3.0));
   EXPECT_STREQ(to_string(BetaSchedule::Ramp), "ramp");
   EXPECT_STREQ(to_string(BetaSchedule::Entropy), "entropy");

@@ -67,7 +67,7 @@ TEST(ConfigReader, EnumKeysReadEveryNameOfTheirTable) {
   }
   for (const auto& n : kBetaScheduleNames) {
     io::TableReader r = io::TableReader::from_string("[codesign]\nbeta_schedule = \"" + std::string(n.name) + "\"\n", "run.toml");
-    EXPECT_EQ(read_codesign_config(r, TaskConfig{}).beta_schedule, n.value);
+    EXPECT_EQ(read_codesign_config(r, TaskConfig{}).distribution.beta_schedule, n.value);
     EXPECT_EQ(to_string(n.value), n.name);
   }
   EXPECT_EQ(error_of("[task]\nobservation = \"full\"\n", true),
@@ -114,16 +114,16 @@ TEST(ConfigReader, SingleDesignIndexRange) {
 TEST(ConfigReader, BetaScheduleAndEntropyEnd) {
   io::TableReader d = io::TableReader::from_string("", "run.toml");
   const CodesignConfig def = read_codesign_config(d, TaskConfig{});
-  EXPECT_EQ(def.beta_schedule, BetaSchedule::Ramp);
-  EXPECT_EQ(def.entropy_end, std::log(3.0));
+  EXPECT_EQ(def.distribution.beta_schedule, BetaSchedule::Ramp);
+  EXPECT_EQ(def.distribution.entropy_end, std::log(3.0));
   io::TableReader r = io::TableReader::from_string(
       "[codesign]\nbeta_schedule = \"entropy\"\nentropy_end = 0.25\n", "run.toml");
   const CodesignConfig c = read_codesign_config(r, TaskConfig{});
-  EXPECT_EQ(c.beta_schedule, BetaSchedule::Entropy);
-  EXPECT_EQ(c.entropy_end, 0.25);
+  EXPECT_EQ(c.distribution.beta_schedule, BetaSchedule::Entropy);
+  EXPECT_EQ(c.distribution.entropy_end, 0.25);
   // The whole range: 0 (a point mass at T2) to ln 110 (uniform: no concentration at all).
   io::TableReader ends = io::TableReader::from_string("[codesign]\nentropy_end = 0.0\n", "run.toml");
-  EXPECT_EQ(read_codesign_config(ends, TaskConfig{}).entropy_end, 0.0);
+  EXPECT_EQ(read_codesign_config(ends, TaskConfig{}).distribution.entropy_end, 0.0);
   EXPECT_EQ(error_of("[codesign]\nentropy_end = 4.7004\n", false), "");
 }
 

@@ -64,18 +64,18 @@ void expect_same(const TaskConfig& a, const TaskConfig& b) {
 void expect_same(const CodesignConfig& a, const CodesignConfig& b) {
   EXPECT_EQ(a.total_timesteps, b.total_timesteps);
   EXPECT_EQ(a.designs_per_update, b.designs_per_update);
-  EXPECT_EQ(a.exploration_end, b.exploration_end);
-  EXPECT_EQ(a.exploitation_start, b.exploitation_start);
-  EXPECT_EQ(a.alpha, b.alpha);
-  EXPECT_EQ(a.phi, b.phi);
-  EXPECT_EQ(a.beta_start, b.beta_start);
-  EXPECT_EQ(a.beta_end, b.beta_end);
-  EXPECT_EQ(a.beta_schedule, b.beta_schedule);
-  EXPECT_EQ(a.entropy_end, b.entropy_end);
-  EXPECT_EQ(a.reward_buffer, b.reward_buffer);
-  EXPECT_EQ(a.latent_mu0, b.latent_mu0);
-  EXPECT_EQ(a.latent_sigma0, b.latent_sigma0);
-  EXPECT_EQ(a.latent_sigma_min, b.latent_sigma_min);
+  EXPECT_EQ(a.distribution.exploration_end, b.distribution.exploration_end);
+  EXPECT_EQ(a.distribution.exploitation_start, b.distribution.exploitation_start);
+  EXPECT_EQ(a.distribution.alpha, b.distribution.alpha);
+  EXPECT_EQ(a.distribution.phi, b.distribution.phi);
+  EXPECT_EQ(a.distribution.beta_start, b.distribution.beta_start);
+  EXPECT_EQ(a.distribution.beta_end, b.distribution.beta_end);
+  EXPECT_EQ(a.distribution.beta_schedule, b.distribution.beta_schedule);
+  EXPECT_EQ(a.distribution.entropy_end, b.distribution.entropy_end);
+  EXPECT_EQ(a.distribution.reward_buffer, b.distribution.reward_buffer);
+  EXPECT_EQ(a.distribution.latent_mu0, b.distribution.latent_mu0);
+  EXPECT_EQ(a.distribution.latent_sigma0, b.distribution.latent_sigma0);
+  EXPECT_EQ(a.distribution.latent_sigma_min, b.distribution.latent_sigma_min);
   EXPECT_EQ(a.baseline, b.baseline);
   EXPECT_EQ(a.single_design_index, b.single_design_index);
   EXPECT_EQ(a.single_design_p1_kPa, b.single_design_p1_kPa);
@@ -217,8 +217,8 @@ TEST(ResolvedConfig, NonDefaultRoundTrip) {
   EXPECT_EQ(a.loop.task.observation, ObservationSet::Proprioceptive);
   EXPECT_EQ(a.loop.codesign.baseline, Baseline::SingleDesign);
   EXPECT_EQ(a.loop.codesign.seed, std::uint64_t{1} << 62);
-  EXPECT_EQ(a.loop.codesign.beta_schedule, BetaSchedule::Entropy);
-  EXPECT_EQ(a.loop.codesign.entropy_end, 0.75);
+  EXPECT_EQ(a.loop.codesign.distribution.beta_schedule, BetaSchedule::Entropy);
+  EXPECT_EQ(a.loop.codesign.distribution.entropy_end, 0.75);
   const std::string r = check_round_trip(kNonDefault);
   EXPECT_NE(r.find("\nplate_phase_deg = -12.5\n"), std::string::npos) << r;  // [scene]
   EXPECT_NE(r.find("\nplate_phase_deg = 45.0\n"), std::string::npos) << r;   // [codesign]
@@ -279,10 +279,10 @@ TEST(ResolvedConfig, QuickEntropyDiffersFromQuickOnlyInTheSchedule) {
   const std::string merged = io::TableReader::input_text(dir + "quick_entropy.toml");
   check_round_trip(merged);
   RunTables e = read_run(merged);
-  EXPECT_EQ(e.loop.codesign.beta_schedule, BetaSchedule::Entropy);
-  EXPECT_EQ(e.loop.codesign.entropy_end, std::log(3.0));
+  EXPECT_EQ(e.loop.codesign.distribution.beta_schedule, BetaSchedule::Entropy);
+  EXPECT_EQ(e.loop.codesign.distribution.entropy_end, std::log(3.0));
   EXPECT_EQ(resolved(e).find("entropy_end"), std::string::npos);  // the default: not written
-  e.loop.codesign.beta_schedule = quick.loop.codesign.beta_schedule;
+  e.loop.codesign.distribution.beta_schedule = quick.loop.codesign.distribution.beta_schedule;
   EXPECT_EQ(resolved(e), resolved(quick));
 }
 

@@ -182,8 +182,8 @@ TEST(Run, ResumedRunWithHistoryAndObservationNormalisationEndsIdentically) {
 // the floor ln(number of designs tied at the top); a resumed run writes the same file.
 TEST(Run, EntropyScheduleLogsItsTargetAndResumesIdentically) {
   RunSettings s = test::tiny_run();
-  s.loop.codesign.beta_schedule = BetaSchedule::Entropy;
-  s.loop.codesign.entropy_end = 2.0;
+  s.loop.codesign.distribution.beta_schedule = BetaSchedule::Entropy;
+  s.loop.codesign.distribution.entropy_end = 2.0;
   s.config_text += "# entropy schedule\n";
   const fs::path a = fresh_dir("entropy_whole"), b = fresh_dir("entropy_resumed");
   ASSERT_TRUE(run_codesign(s, opts(a)).completed);
@@ -384,8 +384,8 @@ TEST(Run, RecurrentRunPublishesItsMemory) {
   s.loop.ppo.policy = rl::PolicyKind::Gru;
   s.loop.ppo.gru_hidden = 8;
   s.loop.codesign.total_timesteps = 40;  // 2 iterations of 4 x 5
-  s.loop.codesign.exploration_end = 20;
-  s.loop.codesign.exploitation_start = 30;
+  s.loop.codesign.distribution.exploration_end = 20;
+  s.loop.codesign.distribution.exploitation_start = 30;
   const fs::path d = fresh_dir("tel_gru");
   fs::create_directories(d);
   const fs::path log = d / "telemetry.lcm";
