@@ -54,13 +54,7 @@ int run_refine(const RefineCliOptions& o) {
     if (v > setup.task.pressure_max_kPa)
       throw InputError(result_path + ": best.pressures_kPa: " + io::CsvLog::num(v) + " is out of range; allowed [0, " +
                        io::CsvLog::num(setup.task.pressure_max_kPa) + "] (the run's task.pressure_max_kPa)");
-  const auto loaded = std::make_shared<const rl::Policy>(rl::Policy::load(dir / coopt::run_file::kPolicy));
-  const rl::Policy& policy = *loaded;
-  const int obs_dim = coopt::observation_dim(setup.task);
-  if (policy.obs_dim() != obs_dim || policy.act_dim() != 1)
-    throw InputError((dir / coopt::run_file::kPolicy).string() + ": policy has " + std::to_string(policy.obs_dim()) +
-                     " inputs and " + std::to_string(policy.act_dim()) + " outputs; the run's task needs " +
-                     std::to_string(obs_dim) + " and 1");
+  const std::shared_ptr<const rl::Policy> loaded = coopt::load_task_policy(dir / coopt::run_file::kPolicy, setup.task);
   coopt::RefineConfig rc;
   rc.tuning_phases = o.phases;
   rc.test_episodes = setup.codesign.eval_episodes;

@@ -277,16 +277,6 @@ int write_frames(const fs::path& dir, const std::vector<std::vector<RecordedFram
   return static_cast<int>(frames);
 }
 
-std::shared_ptr<const rl::Policy> load_task_policy(const fs::path& policy_file, const TaskConfig& task) {
-  auto policy = std::make_shared<const rl::Policy>(rl::Policy::load(policy_file));
-  if (policy->obs_dim() != observation_dim(task) || policy->act_dim() != 1)
-    throw InputError(policy_file.string() + ": the policy takes " + std::to_string(policy->obs_dim()) +
-                     " observations and gives " + std::to_string(policy->act_dim()) + " actions; the task's \"" +
-                     to_string(task.observation) + "\" observation with history " +
-                     std::to_string(task.history) + " has " +
-                     std::to_string(observation_dim(task)) + " and 1 action");
-  return policy;
-}
 
 void render_run_frames(const fs::path& run_dir, const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task,
                        int eval_episodes, const io::RenderConfig& config, bool force) {

@@ -72,9 +72,6 @@ std::vector<RecordedFrame> record_scenario(const std::shared_ptr<SimulatorPool>&
 int write_frames(const std::filesystem::path& dir, const std::vector<std::vector<RecordedFrame>>& sequences,
                  const io::RenderConfig& config, bool force);
 
-// A policy file (rl::Policy) for the task; throws InputError if the policy's observation size does
-// not fit the task's observation set. Its controllers: policy_controller.hpp (one per episode).
-std::shared_ptr<const rl::Policy> load_task_policy(const std::filesystem::path& policy_file, const TaskConfig& task);
 
 // "j21 {1, 28 mm, 2.5 mm}  p = [0.069, 0] kPa"
 std::string design_title(int design, double p1_kPa, double p2_kPa);
