@@ -14,9 +14,9 @@
 #include <string>
 
 #include "codesign/outer_loop.hpp"
+#include "codesign/run_config.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
-#include "sim_setup.hpp"
 
 namespace codesign::app {
 
@@ -29,7 +29,7 @@ struct BenchCodesignOptions {
 };
 
 int run_bench_codesign(const BenchCodesignOptions& o) {
-  const SimSetup setup = read_sim_setup(o.config);
+  const coopt::RunConfig setup = coopt::read_run_config(o.config);
   coopt::LoopConfig lc{setup.task, setup.codesign, setup.ppo};
   auto sims = std::make_shared<coopt::SimulatorPool>(setup.spec, setup.scene, setup.solver);
   auto envs = std::make_unique<coopt::ThreadEnvPool>(sims, lc.task, static_cast<std::size_t>(lc.codesign.designs_per_update),

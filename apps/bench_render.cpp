@@ -22,10 +22,10 @@
 #include <unistd.h>
 
 #include "codesign/episode_render.hpp"
+#include "codesign/run_config.hpp"
 #include "commands.hpp"
 #include "io/png_file.hpp"
 #include "io/render_osmesa.hpp"
-#include "sim_setup.hpp"
 
 namespace codesign::app {
 
@@ -75,7 +75,7 @@ int run_bench_render(const BenchRenderOptions& o) {
   // llvmpipe reads LP_NUM_THREADS when the first context is created.
   const std::string threads = std::to_string(o.gl_threads);
   ::setenv("LP_NUM_THREADS", threads.c_str(), 1);
-  const SimSetup setup = read_sim_setup(o.config);
+  const coopt::RunConfig setup = coopt::read_run_config(o.config);
   io::RenderConfig rc = setup.render;
   rc.width = o.width;
   rc.height = o.height;

@@ -18,9 +18,9 @@
 
 #include "base/errors.hpp"
 #include "codesign/run.hpp"
+#include "codesign/run_config.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
-#include "sim_setup.hpp"
 
 namespace codesign::app {
 
@@ -56,7 +56,7 @@ class TempDir {
 };
 
 int run_bench_telemetry(const BenchTelemetryOptions& o) {
-  const SimSetup setup = read_sim_setup(o.config);
+  const coopt::RunConfig setup = coopt::read_run_config(o.config);
   std::ifstream in(o.config, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();

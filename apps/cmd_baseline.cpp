@@ -16,13 +16,13 @@
 #include "base/errors.hpp"
 #include "codesign/design_sweep.hpp"
 #include "codesign/pid_tuning.hpp"
+#include "codesign/run_config.hpp"
 #include "codesign/run_folder.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_log.hpp"
-#include "sim_setup.hpp"
 
 namespace codesign::app {
 
@@ -50,7 +50,7 @@ void toml_test(std::ostream& out, double tuning_return, int evaluations, const c
 }
 
 int run_baseline(const BaselineOptions& o) {
-  const SimSetup setup = read_sim_setup(o.config);
+  const coopt::RunConfig setup = coopt::read_run_config(o.config);
   if (o.design < 0 || o.design >= fem::kDesignCount)
     throw InputError("--design: " + std::to_string(o.design) + " is out of range; allowed [0, 109]");
   const double pmax = setup.task.pressure_max_kPa;

@@ -18,6 +18,7 @@
 #include "codesign/checkpoint.hpp"
 #include "codesign/config_writer.hpp"
 #include "codesign/outer_loop.hpp"
+#include "codesign/run_config.hpp"
 #include "codesign/whisker_env.hpp"
 #include "commands.hpp"
 #include "fem/mesh_ops.hpp"
@@ -25,7 +26,6 @@
 #include "rl/actor_critic.hpp"
 #include "rl/policy_file.hpp"
 #include "rl/recurrent_actor_critic.hpp"
-#include "sim_setup.hpp"
 
 namespace codesign::app {
 
@@ -76,7 +76,7 @@ int check_policy(const CheckOptions& o) {
                                              " units)"
                                        : std::string("a feed-forward policy");
   if (!o.config.empty()) {
-    const SimSetup s = read_sim_setup(o.config);
+    const coopt::RunConfig s = coopt::read_run_config(o.config);
     const std::string pre = "policy file " + o.file + ": ";
     const bool gru = s.ppo.policy == rl::PolicyKind::Gru;
     if (gru != p.recurrent.has_value() || (gru && p.recurrent->gru_hidden() != s.ppo.gru_hidden))
@@ -116,7 +116,7 @@ int check_policy(const CheckOptions& o) {
 int check_checkpoint(const CheckOptions& o) {
   if (o.config.empty())
     throw InputError("checkpoint " + o.file + ": --config is required to check a checkpoint (the run's config.toml)");
-  const SimSetup s = read_sim_setup(o.config);
+  const coopt::RunConfig s = coopt::read_run_config(o.config);
   const coopt::LoopConfig lc{s.task, s.codesign, s.ppo};
   const std::uint64_t fp = coopt::fingerprint(coopt::resolved_run_config(s.spec, s.scene, s.solver, lc));
   const coopt::Checkpoint c = coopt::load_checkpoint(o.file, fp);

@@ -12,11 +12,11 @@
 
 #include "base/duration_text.hpp"
 #include "base/errors.hpp"
+#include "codesign/run_config.hpp"
 #include "codesign/run_evaluation.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
-#include "sim_setup.hpp"
 
 namespace codesign::app {
 
@@ -51,7 +51,7 @@ int run_evaluate(const EvaluateCliOptions& o) {
   eo.threads = static_cast<std::size_t>(o.threads);
   eo.force = o.force;
   eo.plots_dir = o.plots;
-  const SimSetup setup = read_sim_setup((dir / "config.toml").string());
+  const coopt::RunConfig setup = coopt::read_run_config((dir / "config.toml").string());
   coopt::RunSettings s;
   s.spec = setup.spec;
   s.scene = setup.scene;

@@ -14,13 +14,13 @@
 #include "codesign/policy_controller.hpp"
 #include "codesign/refine.hpp"
 #include "codesign/run.hpp"
+#include "codesign/run_config.hpp"
 #include "codesign/run_folder.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "io/csv_log.hpp"
 #include "io/run_lock.hpp"
 #include "rl/policy_file.hpp"
-#include "sim_setup.hpp"
 
 namespace codesign::app {
 
@@ -44,7 +44,7 @@ int run_refine(const RefineCliOptions& o) {
   for (const char* f : {coopt::run_file::kConfig, coopt::run_file::kPolicy, coopt::run_file::kResult})
     if (!fs::exists(dir / f))
       throw InputError(dir.string() + ": has no " + f + "; refine needs a finished co-design run folder");
-  const SimSetup setup = read_sim_setup((dir / coopt::run_file::kConfig).string());
+  const coopt::RunConfig setup = coopt::read_run_config((dir / coopt::run_file::kConfig).string());
   const std::string result_path = (dir / coopt::run_file::kResult).string();
   const std::optional<coopt::ResultDesign> best = coopt::read_result_design(dir, "best");
   if (!best) throw InputError(result_path + ": has no [best] design");

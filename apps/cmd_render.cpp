@@ -26,11 +26,11 @@
 #include "codesign/evaluation.hpp"
 #include "codesign/policy_controller.hpp"
 #include "codesign/run.hpp"
+#include "codesign/run_config.hpp"
 #include "codesign/run_folder.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
 #include "io/run_lock.hpp"
-#include "sim_setup.hpp"
 
 namespace codesign::app {
 
@@ -61,7 +61,7 @@ int run_render(const RenderCliOptions& o) {
   if (o.config.empty() == o.run.empty()) throw InputError("command line: give exactly one of --config and --run");
   const fs::path run_dir(o.run);
   const std::string config = o.run.empty() ? o.config : (run_dir / "config.toml").string();
-  const SimSetup setup = read_sim_setup(config);
+  const coopt::RunConfig setup = coopt::read_run_config(config);
   io::RenderConfig rc = setup.render;
   if (o.width) rc.width = *o.width;
   if (o.height) rc.height = *o.height;

@@ -14,12 +14,12 @@
 #include "base/errors.hpp"
 #include "codesign/episode_render.hpp"
 #include "codesign/run.hpp"
+#include "codesign/run_config.hpp"
 #include "codesign/stop_signals.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "io/run_lock.hpp"
 #include "io/toml_reader.hpp"
-#include "sim_setup.hpp"
 
 namespace codesign::app {
 
@@ -38,7 +38,7 @@ struct RunCliOptions {
 };
 
 int run_main_job(const RunCliOptions& o) {
-  const SimSetup setup = read_sim_setup(o.config);
+  const coopt::RunConfig setup = coopt::read_run_config(o.config);
   // One rollout of ppo.n_steps decisions is one episode per environment (Algorithm 1).
   const int decisions = setup.task.episode_steps / setup.task.action_hold_steps;
   if (setup.ppo.n_steps != decisions)

@@ -14,11 +14,11 @@
 #include <numbers>
 #include <string>
 
+#include "codesign/run_config.hpp"
 #include "commands.hpp"
 #include "base/errors.hpp"
 #include "io/csv_writer.hpp"
 #include "io/vtk.hpp"
-#include "sim_setup.hpp"
 
 namespace codesign::app {
 
@@ -46,7 +46,7 @@ void write_vtk_frame(const fs::path& file, const fem::Simulator& sim) {
 }
 
 int run_sim(const SimOptions& opt) {
-  const SimSetup setup = read_sim_setup(opt.config);
+  const coopt::RunConfig setup = coopt::read_run_config(opt.config);
   const io::SimScenario& sc = setup.scenario;
   const int vtk_every = opt.vtk_every >= 0 ? opt.vtk_every : sc.vtk_every;
   const fs::path dir(opt.out);

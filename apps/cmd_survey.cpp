@@ -20,13 +20,13 @@
 
 #include "base/errors.hpp"
 #include "codesign/evaluation.hpp"
+#include "codesign/run_config.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_log.hpp"
 #include "rl/thread_pool.hpp"
-#include "sim_setup.hpp"
 
 namespace codesign::app {
 
@@ -52,7 +52,7 @@ struct DesignRow {
 };
 
 int run_survey(const SurveyOptions& o) {
-  const SimSetup setup = read_sim_setup(o.config);
+  const coopt::RunConfig setup = coopt::read_run_config(o.config);
   const auto [first, last] = parse_design_range(o.designs);
   const fs::path dir(o.out);
   std::error_code ec;

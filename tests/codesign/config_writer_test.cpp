@@ -24,7 +24,7 @@ struct RunTables {
   LoopConfig loop;
 };
 
-// A run config read as `codesign run` reads it (apps/sim_setup.cpp; [sim] and [render] read and
+// A run config read as `codesign run` reads it (codesign/run_config.cpp; [sim] and [render] read and
 // dropped: they are not part of the resolved config).
 RunTables read_run(const std::string& text) {
   io::TableReader root = io::TableReader::from_string(text, "run.toml");

@@ -1,28 +1,28 @@
-#include "sim_setup.hpp"
+#include "codesign/run_config.hpp"
 
 #include "codesign/config_reader.hpp"
 #include "io/gym_config.hpp"
 #include "io/mesh_config.hpp"
 
-namespace codesign::app {
+namespace codesign::coopt {
 
-SimSetup read_sim_setup(const std::string& config_path) {
+RunConfig read_run_config(const std::string& config_path) {
   io::TableReader root = config_path.empty() ? io::TableReader::from_string("", "(defaults)")
                                              : io::TableReader::from_file(config_path);
-  return read_sim_setup(root);
+  return read_run_config(root);
 }
 
-SimSetup read_sim_setup(io::TableReader& root) {
-  SimSetup s;
+RunConfig read_run_config(io::TableReader& root) {
+  RunConfig s;
   const io::FemTables fem = io::read_fem_tables(root);
   s.spec = fem.spec;
   s.scene = fem.scene;
   s.solver = fem.solver;
   s.scenario = io::read_sim_scenario(root);
-  s.task = coopt::read_task_config(root);
-  s.codesign = coopt::read_codesign_config(root, s.task);
-  s.pid = coopt::read_pid_config(root);
-  s.sweep = coopt::read_sweep_config(root, s.task);
+  s.task = read_task_config(root);
+  s.codesign = read_codesign_config(root, s.task);
+  s.pid = read_pid_config(root);
+  s.sweep = read_sweep_config(root, s.task);
   {
     io::TableReader ppo = root.table("ppo");
     s.ppo = io::read_ppo_config(ppo, rl::paper_ppo_config());
@@ -39,4 +39,4 @@ SimSetup read_sim_setup(io::TableReader& root) {
   return s;
 }
 
-}  // namespace codesign::app
+}  // namespace codesign::coopt

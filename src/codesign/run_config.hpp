@@ -1,6 +1,9 @@
 #pragma once
-// Shared by `codesign sim` and `codesign bench fem`: everything the simulator needs, read from
-// one config file (tables of io/fem_config.hpp).
+// The run config: every table a config file may hold, read once by one reader and shared by
+// every sub-command (the run, sim, baselines, sweep, render, check, evaluate, refine, the
+// benchmarks). Each table has one reader (io/fem_config.hpp, io/mesh_config.hpp,
+// codesign/config_reader.hpp, io/gym_config.hpp for [ppo], io/render_config.hpp) and one writer
+// (config_writer.hpp of io and of codesign); this file only puts them together.
 #include <memory>
 #include <string>
 
@@ -15,18 +18,18 @@
 #include "io/toml_reader.hpp"
 #include "rl/ppo.hpp"
 
-namespace codesign::app {
+namespace codesign::coopt {
 
-struct SimSetup {
+struct RunConfig {
   fem::WhiskerModelSpec spec;
   fem::SceneConfig scene;
   fem::SolverConfig solver;
   io::SimScenario scenario;
-  coopt::TaskConfig task;          // [task]
-  coopt::CodesignConfig codesign;  // [codesign]
+  TaskConfig task;          // [task]
+  CodesignConfig codesign;  // [codesign]
   rl::PpoConfig ppo;               // [ppo] over the paper's settings (rl::paper_ppo_config)
-  coopt::PidTuningConfig pid;      // [pid]: PID baseline tuning
-  coopt::SweepConfig sweep;        // [sweep]: the design landscape
+  PidTuningConfig pid;      // [pid]: PID baseline tuning
+  SweepConfig sweep;        // [sweep]: the design landscape
   std::string telemetry_url;       // [telemetry] url: LCM URL, "" = off
   int telemetry_train_every = 2;   // [telemetry] train_decision_every: every N-th decision of training env 0 (0 = none)
   io::RenderConfig render;         // [render]: PNG frames (docs/rendering.md)
@@ -36,8 +39,8 @@ struct SimSetup {
 // from the file, and validates
 // the other known tables of a run config ([task], [codesign], [ppo]) so one file serves all
 // commands; then root.finish() (unknown tables/keys are errors). An empty path gives defaults.
-SimSetup read_sim_setup(const std::string& config_path);
+RunConfig read_run_config(const std::string& config_path);
 // The same from a parsed config (tests/fuzz/fuzz_config.cpp feeds it TOML text).
-SimSetup read_sim_setup(io::TableReader& root);
+RunConfig read_run_config(io::TableReader& root);
 
-}  // namespace codesign::app
+}  // namespace codesign::coopt
