@@ -118,7 +118,7 @@ int run_bench(const BenchFemOptions& opt) {
   std::printf("  theta target %s per decision d (5 steps each); fast_stop %s, fast_tolerance %g, refactorise after %d CG "
               "iterations\n",
               theta_schedule_text(opt.turn_deg).c_str(),
-              std::string(name_of(fem::kFastStopNames, s.solver.fast_stop)).c_str(), s.solver.fast_tolerance,
+              name_of(fem::kFastStopNames, s.solver.fast_stop).data(), s.solver.fast_tolerance,
               s.solver.fast_refactor_iterations);
   const Trace fast = run_episode(model, s, fem::StepMethod::Fast, opt.steps, opt.turn_deg);
   const Trace exact = run_episode(model, s, fem::StepMethod::Exact, opt.steps, opt.turn_deg);

@@ -21,6 +21,7 @@
 #include "commands.hpp"
 #include "fem/mesh_ops.hpp"
 #include "io/msh.hpp"
+#include "rl/layer_sizes.hpp"
 #include "rl/policy_file.hpp"
 
 namespace codesign::app {
@@ -57,7 +58,7 @@ int check_policy(const CheckOptions& o) {
   const rl::PolicyFileContents p = rl::load_policy(o.file);
   const rl::MlpT<float>& actor_mlp = p.recurrent ? p.recurrent->actor() : p.model.actor();
   const rl::MlpT<float>& critic_mlp = p.recurrent ? p.recurrent->critic() : p.model.critic();
-  const std::vector<int> actor = coopt::hidden_sizes(actor_mlp.sizes()), critic = coopt::hidden_sizes(critic_mlp.sizes());
+  const std::vector<int> actor = rl::hidden_sizes(actor_mlp.sizes()), critic = rl::hidden_sizes(critic_mlp.sizes());
   if (!o.config.empty()) coopt::check_policy_fits(p, o.file, coopt::read_run_config(o.config), o.config);
   std::printf("%s: policy: obs_dim %d, act_dim %d, %sactor %s, critic %s%s, observation normalisation %s%s\n",
               o.file.c_str(), p.obs_dim(), p.act_dim(),

@@ -18,7 +18,6 @@
 #include "codesign/run_folder.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
-#include "io/csv_log.hpp"
 #include "io/run_lock.hpp"
 #include "rl/policy_file.hpp"
 
@@ -46,14 +45,11 @@ int run_refine(const RefineCliOptions& o) {
       throw InputError(dir.string() + ": has no " + f + "; refine needs a finished co-design run folder");
   const coopt::RunConfig setup = coopt::read_run_config((dir / coopt::run_file::kConfig).string());
   const std::string result_path = (dir / coopt::run_file::kResult).string();
-  const std::optional<coopt::ResultDesign> best = coopt::read_result_design(dir, "best");
+  const std::optional<coopt::ResultDesign> best =
+      coopt::read_result_design(dir, "best", setup.task.pressure_max_kPa);
   if (!best) throw InputError(result_path + ": has no [best] design");
   const int design = best->setup.design;
   const std::vector<double> p{best->setup.p1_kPa, best->setup.p2_kPa};
-  for (const double v : p)
-    if (v > setup.task.pressure_max_kPa)
-      throw InputError(result_path + ": best.pressures_kPa: " + io::CsvLog::num(v) + " is out of range; allowed [0, " +
-                       io::CsvLog::num(setup.task.pressure_max_kPa) + "] (the run's task.pressure_max_kPa)");
   const std::shared_ptr<const rl::Policy> loaded = coopt::load_task_policy(dir / coopt::run_file::kPolicy, setup.task);
   coopt::RefineConfig rc;
   rc.tuning_phases = o.phases;

@@ -104,11 +104,11 @@ int run_render(const RenderCliOptions& o) {
       const std::optional<coopt::ResultDesign> result = coopt::read_result_design(run_dir, w);
       if (!result)
         throw InputError((run_dir / coopt::run_file::kResult).string() + ": has no [" + w + "] design");
-      std::optional<coopt::EpisodeSetup> s = result->setup;
-      s->plate_phase_rad = phase;
-      seqs.push_back(coopt::record_episode(sims, task, *s, coopt::episode_controller(policy), rc.every_steps,
+      coopt::EpisodeSetup s = result->setup;
+      s.plate_phase_rad = phase;
+      seqs.push_back(coopt::record_episode(sims, task, s, coopt::episode_controller(policy), rc.every_steps,
                                            (w == "best" ? "d*: " : "runner-up: ") +
-                                               coopt::design_title(s->design, s->p1_kPa, s->p2_kPa)));
+                                               coopt::design_title(s.design, s.p1_kPa, s.p2_kPa)));
     }
   } else {
     const std::shared_ptr<const rl::Policy> policy = o.policy.empty() ? nullptr : coopt::load_task_policy(o.policy, task);

@@ -284,15 +284,15 @@ void render_run_frames(const fs::path& run_dir, const std::shared_ptr<SimulatorP
   for (const char* which : {"best", "runner_up"}) {
     const std::optional<ResultDesign> result = read_result_design(run_dir, which);
     if (!result) continue;
-    std::optional<EpisodeSetup> setup = result->setup;
+    EpisodeSetup setup = result->setup;
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<RecordedFrame> frames;
     const std::string label = std::string(which) == "best" ? "d*: " : "runner-up: ";
     for (int k = 0; k < std::min(config.episodes, eval_episodes); ++k) {
-      setup->plate_phase_rad = evaluation_phase(k, eval_episodes);
+      setup.plate_phase_rad = evaluation_phase(k, eval_episodes);
       std::vector<RecordedFrame> e =
-          record_episode(sims, task, *setup, episode_controller(policy), config.every_steps,
-                         label + design_title(setup->design, setup->p1_kPa, setup->p2_kPa), k);
+          record_episode(sims, task, setup, episode_controller(policy), config.every_steps,
+                         label + design_title(setup.design, setup.p1_kPa, setup.p2_kPa), k);
       frames.insert(frames.end(), std::make_move_iterator(e.begin()), std::make_move_iterator(e.end()));
     }
     const fs::path dir = run_dir / "frames" / which;

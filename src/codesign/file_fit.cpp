@@ -5,6 +5,7 @@
 #include "codesign/outer_loop.hpp"
 #include "codesign/whisker_env.hpp"
 #include "rl/actor_critic.hpp"
+#include "rl/layer_sizes.hpp"
 #include "rl/recurrent_actor_critic.hpp"
 
 namespace codesign::coopt {
@@ -15,15 +16,11 @@ std::string sizes_text(const std::vector<int>& v) {
   return s + "]";
 }
 
-std::vector<int> hidden_sizes(const std::vector<int>& sizes) {
-  return sizes.size() < 2 ? std::vector<int>{} : std::vector<int>(sizes.begin() + 1, sizes.end() - 1);
-}
-
 void check_policy_fits(const rl::PolicyFileContents& p, const std::string& file, const RunConfig& s,
                        const std::string& config_file) {
   const rl::MlpT<float>& actor_mlp = p.recurrent ? p.recurrent->actor() : p.model.actor();
   const rl::MlpT<float>& critic_mlp = p.recurrent ? p.recurrent->critic() : p.model.critic();
-  const std::vector<int> actor = hidden_sizes(actor_mlp.sizes()), critic = hidden_sizes(critic_mlp.sizes());
+  const std::vector<int> actor = rl::hidden_sizes(actor_mlp.sizes()), critic = rl::hidden_sizes(critic_mlp.sizes());
   const std::string kind = p.recurrent ? "a recurrent policy (GRU of " + std::to_string(p.recurrent->gru_hidden()) +
                                              " units)"
                                        : std::string("a feed-forward policy");

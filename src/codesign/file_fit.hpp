@@ -22,8 +22,7 @@ void check_policy_fits(const rl::PolicyFileContents& p, const std::string& file,
 // `config_file`), whose network sizes must be the config's.
 Checkpoint load_fitting_checkpoint(const std::string& file, const RunConfig& c, const std::string& config_file);
 
-// "[a, b, c]", and the hidden layer sizes of an MLP's size list (input and output dropped).
+// "[a, b, c]" (layer sizes as the messages above and `codesign check` print them).
 std::string sizes_text(const std::vector<int>& v);
-std::vector<int> hidden_sizes(const std::vector<int>& sizes);
 
 }  // namespace codesign::coopt

@@ -69,14 +69,15 @@ void write_result(const fs::path& run_dir, const ResultFile& r) {
   });
 }
 
-std::optional<ResultDesign> read_result_design(const fs::path& run_dir, const std::string& which) {
+std::optional<ResultDesign> read_result_design(const fs::path& run_dir, const std::string& which,
+                                               double pressure_max_kPa) {
   io::TableReader root = io::TableReader::from_file((run_dir / run_file::kResult).string());
   if (!root.has(which)) return std::nullopt;
   io::TableReader t = root.table(which);
   if (!t.has("design")) t.fail("design", "missing");
   ResultDesign d;
   d.setup.design = static_cast<int>(t.integer("design", 0, 0, fem::kDesignCount - 1));
-  const std::vector<double> p = t.numbers("pressures_kPa", {0.0, 0.0}, 0.0, 1e3, 2, 2);
+  const std::vector<double> p = t.numbers("pressures_kPa", {0.0, 0.0}, 0.0, pressure_max_kPa, 2, 2);
   d.setup.p1_kPa = p[0];
   d.setup.p2_kPa = p[1];
   d.test_return = t.number("test_return", 0.0, -1e12, 1e12);

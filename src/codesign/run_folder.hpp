@@ -64,8 +64,10 @@ void write_result(const std::filesystem::path& run_dir, const ResultFile& r);
 
 // Table `which` ("best" or "runner_up") of DIR/result.toml; nullopt when the file has no such
 // table. A missing or unreadable file, or a key out of range, is an InputError naming the file
-// and the key.
-std::optional<ResultDesign> read_result_design(const std::filesystem::path& run_dir, const std::string& which);
+// and the key. Pressures must lie in [0, pressure_max_kPa] (refine passes the run's
+// task.pressure_max_kPa; the default only rules out nonsense).
+std::optional<ResultDesign> read_result_design(const std::filesystem::path& run_dir, const std::string& which,
+                                               double pressure_max_kPa = 1e3);
 
 // Appends (or replaces) the [refined] table of DIR/result.toml, keeping the rest of its text.
 void write_refined_result(const std::filesystem::path& run_dir, const RefineResult& r);

@@ -33,7 +33,6 @@ class CorotatedBatch {
   CorotatedBatch() = default;
   CorotatedBatch(const std::vector<Tet>& tets, const std::vector<TetRest>& rest, double mu, double lambda);
 
-  int elements() const { return elements_; }
   // Every element's rotation set to G (quaternion Eigen::Quaterniond(G), matrix G itself).
   void set_all_rotations(const Eigen::Matrix3d& G);
   // Every element's matrix set to G, the quaternions (warm starts) kept.

@@ -6,7 +6,6 @@
 
 namespace codesign::fem {
 
-// Exact: factorise A(x), free solve, then the contact LCP with exact Delassus columns.
 StepResult Simulator::Impl::exact_solve(const Eigen::VectorXd& vg, const Eigen::VectorXd& b, double plate_new, double dt,
                                         double c_m, double c_k, Eigen::VectorXd& vnew) {
   StepResult res;

@@ -6,9 +6,6 @@
 
 namespace codesign::fem {
 
-// Fast: constrained PCG (see simulator.hpp). Active contact nodes get their vertical velocity
-// prescribed so they land on the plate; the multiplier is the reaction at that DOF.
-// kvg = K(x) vg from the fused force pass (saves one mat-vec in the first round).
 StepResult Simulator::Impl::fast_solve(const Eigen::VectorXd& vg, const Eigen::VectorXd& kvg, const Eigen::VectorXd& b,
                                        double plate_new, double dt, double c_m, double c_k, Eigen::VectorXd& vnew) {
   StepResult res;

@@ -7,10 +7,6 @@
 
 namespace codesign::fem {
 
-// Total force at x (elastic + fibres + gravity + pressure) into f; rotations updated.
-// Returns false (with status) if an element is inverted or the state is not finite.
-// rotation_tolerance: accuracy of the polar rotations [rad] (1e-14 for the exact step; the
-// fast step uses 1e-6, a force error of the same relative size, far below its CG tolerance).
 StepStatus Simulator::Impl::force_pass(const Eigen::VectorXd& xx, Eigen::VectorXd& ff, std::string& why,
                                        const Eigen::VectorXd* u, Eigen::VectorXd* ku,
                                        double rotation_tolerance) {
@@ -45,14 +41,12 @@ StepStatus Simulator::Impl::force_pass(const Eigen::VectorXd& xx, Eigen::VectorX
   return StepStatus::Ok;
 }
 
-// y = K(x) u (co-rotated elastic + fibre tangents), all DOFs.
 void Simulator::Impl::apply_K(const Eigen::VectorXd& u, Eigen::VectorXd& y) {
   y.setZero(3 * n);
   batch.add_stiffness_times(u, y);
   add_fibre_K(u, y);
 }
 
-// Fibre tangents (cached by the last force pass) times u.
 void Simulator::Impl::add_fibre_K(const Eigen::VectorXd& u, Eigen::VectorXd& y) const {
   for (std::size_t q = 0; q < model->fibres.size(); ++q) {
     const FibreSpring& s = model->fibres[q];
@@ -67,17 +61,12 @@ void Simulator::Impl::add_fibre_K(const Eigen::VectorXd& u, Eigen::VectorXd& y) 
   }
 }
 
-// y = A u with A = c_m M + c_k K(x), all DOFs.
 void Simulator::Impl::apply_A(const Eigen::VectorXd& u, double c_m, double c_k, Eigen::VectorXd& y) {
   apply_K(u, y);
   y *= c_k;
   for (int i = 0; i < n; ++i) y.segment<3>(3 * i) += c_m * model->lumped_mass[i] * u.segment<3>(3 * i);
 }
 
-// Force scale of the "force" stopping rule [µN]: the larger of ‖f‖ (the step's total force
-// on the free DOFs: elastic + fibres + gravity + pressure, i.e. the contact reactions when the
-// body is near balance) and the norm of the body's weight on the free DOFs (so an unloaded body
-// at rest keeps a finite scale). Neither depends on the velocities.
 double Simulator::Impl::force_scale() const {
   double ff = 0.0, ww = 0.0;
   const double g = model->material.gravity_mm_s2;

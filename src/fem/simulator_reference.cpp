@@ -32,9 +32,6 @@ bool Simulator::Impl::build_reference(Reference& ref, double dt) {
   return true;
 }
 
-// Node rotations: normalised volume-weighted sum of the adjacent element rotations as unit
-// quaternions (sign-aligned with the node's previous rotation) — a cheap rotation average;
-// it only shapes the preconditioner.
 void Simulator::Impl::update_node_rotations() {
   if (static_cast<int>(node_qrot.size()) != nfree) node_qrot.assign(nfree, Eigen::Quaterniond(base_rotation(0.0)));
   std::vector<Eigen::Vector4d> acc(nfree, Eigen::Vector4d::Zero());
@@ -52,13 +49,11 @@ void Simulator::Impl::update_node_rotations() {
   }
 }
 
-// Q_k = R_k(now) R_k(ref)ᵀ: how far each node's frame turned since the reference.
 void Simulator::Impl::update_warp(const Reference& ref) {
   warp.resize(nfree);
   for (int k = 0; k < nfree; ++k) warp[k] = node_rot[k] * ref.node_rot[k].transpose();
 }
 
-// Makes sure the reference columns of candidate c exist.
 bool Simulator::Impl::ensure_columns(Reference& ref, int c) {
   if (ref.cols[c][0].size() > 0) return true;
   const int k = free_index[model->contact_nodes[c]];
@@ -74,7 +69,6 @@ bool Simulator::Impl::ensure_columns(Reference& ref, int c) {
   return true;
 }
 
-// y = Q A_ref⁻¹ Qᵀ r (free DOFs), Q = blockdiag(warp): the stored inverse turned node by node.
 void Simulator::Impl::apply_ref_inverse(Reference& ref, const Eigen::VectorXd& r, Eigen::VectorXd& y) {
   work_u.resize(r.size());
   for (int k = 0; k < nfree; ++k) work_u.segment<3>(3 * k) = warp[k].transpose() * r.segment<3>(3 * k);
