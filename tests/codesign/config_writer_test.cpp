@@ -10,6 +10,7 @@
 #include "codesign/config_reader.hpp"
 #include "codesign/config_writer.hpp"
 #include "codesign/outer_loop.hpp"
+#include "test_files.hpp"
 #include "io/config_writer.hpp"
 #include "io/fem_config.hpp"
 #include "io/render_config.hpp"
@@ -18,6 +19,8 @@
 
 namespace codesign::coopt {
 namespace {
+
+using test::slurp;
 
 struct RunTables {
   io::FemTables fem;
@@ -112,13 +115,6 @@ std::string check_round_trip(const std::string& text) {
   expect_same(back, a);
   EXPECT_EQ(resolved(back), r);
   return r;
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // A value in every key of [task] and [codesign], none of them the default, and one changed

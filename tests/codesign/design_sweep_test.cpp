@@ -10,24 +10,13 @@
 
 #include "base/errors.hpp"
 #include "codesign/design_sweep.hpp"
+#include "test_files.hpp"
 
 namespace codesign::coopt {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::path(::testing::TempDir()) / ("codesign_sweep_" + name);
-  fs::remove_all(d);
-  return d;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::slurp;
 
 TEST(DesignSweep, PointsCoverTheGridPerChamberCount) {
   SweepConfig c;
@@ -47,7 +36,7 @@ TEST(DesignSweep, PointsCoverTheGridPerChamberCount) {
 }
 
 TEST(DesignSweep, CsvRowsReadBackExactly) {
-  const fs::path dir = fresh_dir("csv");
+  const fs::path dir = test::fresh_dir("sweep_csv");
   fs::create_directories(dir);
   SweepRow a;
   a.point = {63, 1.0 / 3.0, 20.0};
@@ -101,7 +90,7 @@ TEST(DesignSweep, CsvRowsReadBackExactly) {
 TEST(DesignSweep, EstimatePidRowsCarryTheFitAndGetAHeatMap) {
   // The estimate PID through the sweep on a shortened task (10 decisions): its row holds the
   // fit's R² and rms, and its heat-map table is written beside the others.
-  const fs::path dir = fresh_dir("estimate");
+  const fs::path dir = test::fresh_dir("sweep_estimate");
   fem::SceneConfig scene;
   scene.settle_steps = 5;
   auto sims = std::make_shared<SimulatorPool>(fem::WhiskerModelSpec{}, scene, fem::SolverConfig{});
@@ -149,7 +138,7 @@ TEST(DesignSweep, ControllerNamesRoundTrip) {
 }
 
 TEST(DesignSweep, RestartSkipsFinishedRowsAndRefusesAnotherConfig) {
-  const fs::path dir = fresh_dir("resume");
+  const fs::path dir = test::fresh_dir("sweep_resume");
   fem::SceneConfig scene;
   scene.settle_steps = 5;
   auto sims = std::make_shared<SimulatorPool>(fem::WhiskerModelSpec{}, scene, fem::SolverConfig{});

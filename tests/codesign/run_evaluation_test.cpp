@@ -13,6 +13,7 @@
 #include "base/errors.hpp"
 #include "codesign/checkpoint.hpp"
 #include "codesign/run_evaluation.hpp"
+#include "test_files.hpp"
 #include "io/csv_table.hpp"
 #include "io/toml_reader.hpp"
 #include "test_setup.hpp"
@@ -22,13 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace codesign;
 using namespace codesign::coopt;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using codesign::coopt::test::slurp;
 
 // One finished tiny run shared by the tests (T1 = 40, T2 = 80, 120 decisions).
 const fs::path& finished_run() {

@@ -5,29 +5,24 @@
 
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include "base/errors.hpp"
 #include "codesign/run_folder.hpp"
 #include "io/csv_table.hpp"
+#include "test_files.hpp"
 
 namespace codesign::coopt {
 namespace {
 
 namespace fs = std::filesystem;
 
+using test::slurp;
+
+// A fresh folder that exists (the writers below expect their run folder).
 fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::path(::testing::TempDir()) / ("codesign_run_folder_" + name);
-  fs::remove_all(d);
+  const fs::path d = test::fresh_dir("run_folder_" + name);
   fs::create_directories(d);
   return d;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 DesignEvaluation sample_evaluation(int design, double p1, double p2) {
@@ -115,6 +110,17 @@ TEST(RunFolder, BadResultNamesTheFileAndTheKey) {
   EXPECT_NE(missing.find("best.design"), std::string::npos) << missing;
   const std::string one = message("[best]\ndesign = 3\npressures_kPa = [1]\n");
   EXPECT_NE(one.find("best.pressures_kPa"), std::string::npos) << one;
+  // A caller's pressure bound (refine: the run's task.pressure_max_kPa) is the reader's range.
+  std::ofstream(d / run_file::kResult, std::ios::binary) << "[best]\ndesign = 3\npressures_kPa = [25, 0]\n";
+  EXPECT_EQ(read_result_design(d, "best")->setup.p1_kPa, 25.0);
+  try {
+    read_result_design(d, "best", 20.0);
+    ADD_FAILURE() << "no error for p1 = 25 kPa above a bound of 20";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("best.pressures_kPa"), std::string::npos) << m;
+    EXPECT_NE(m.find("20"), std::string::npos) << m;
+  }
   fs::remove(d / run_file::kResult);
   EXPECT_THROW(read_result_design(d, "best"), InputError);
 }
