@@ -14,7 +14,7 @@
 #include <string>
 
 #include "codesign/outer_loop.hpp"
-#include "codesign/run_config.hpp"
+#include "run/run_config.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 
@@ -29,7 +29,7 @@ struct BenchCodesignOptions {
 };
 
 int run_bench_codesign(const BenchCodesignOptions& o) {
-  const coopt::RunConfig setup = coopt::read_run_config(o.config);
+  const run::RunConfig setup = run::read_run_config(o.config);
   coopt::LoopConfig lc{setup.task, setup.codesign, setup.ppo};
   auto sims = std::make_shared<coopt::SimulatorPool>(setup.spec, setup.scene, setup.solver);
   auto envs = std::make_unique<coopt::ThreadEnvPool>(sims, lc.task, static_cast<std::size_t>(lc.codesign.designs_per_update),

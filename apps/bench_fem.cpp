@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "codesign/run_config.hpp"
 #include "commands.hpp"
+#include "run/run_config.hpp"
 
 namespace codesign::app {
 
@@ -65,7 +65,7 @@ std::string theta_schedule_text(double turn_deg) {
   return buf;
 }
 
-Trace run_episode(const std::shared_ptr<const fem::Model>& model, const coopt::RunConfig& s, fem::StepMethod method,
+Trace run_episode(const std::shared_ptr<const fem::Model>& model, const run::RunConfig& s, fem::StepMethod method,
                   int steps, double turn_deg) {
   fem::SolverConfig so = s.solver;
   so.method = method;
@@ -108,7 +108,7 @@ double mean(const std::vector<double>& v) {
 }
 
 int run_bench(const BenchFemOptions& opt) {
-  coopt::RunConfig s = coopt::read_run_config(opt.config);
+  run::RunConfig s = run::read_run_config(opt.config);
   const int design = opt.design >= 0 ? opt.design : s.scenario.design;
   const auto model = fem::build_whisker_model(design, s.spec);
   std::printf("bench fem: design %d, %d nodes, %zu tets, %d free DOFs, %zu fibre springs, dt = %g s, %d steps\n",

@@ -21,11 +21,11 @@
 
 #include <unistd.h>
 
-#include "codesign/episode_render.hpp"
-#include "codesign/run_config.hpp"
 #include "commands.hpp"
 #include "io/png_file.hpp"
 #include "io/render_osmesa.hpp"
+#include "run/episode_render.hpp"
+#include "run/run_config.hpp"
 
 namespace codesign::app {
 
@@ -47,14 +47,14 @@ struct Pass {
 
 double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
-Pass run_pass(io::Renderer& r, const std::vector<coopt::RecordedFrame>& frames, const io::Camera& cam,
+Pass run_pass(io::Renderer& r, const std::vector<run::RecordedFrame>& frames, const io::Camera& cam,
               const io::ColourScale& scale, const io::RenderStyle& style, const io::PngOptions& png,
               const fs::path& dir) {
   Pass p;
   const std::clock_t c0 = std::clock();
   const double w0 = now();
   int k = 0;
-  for (const coopt::RecordedFrame& f : frames) {
+  for (const run::RecordedFrame& f : frames) {
     const io::ScenePanel panel{f.scene, f.overlay, cam};
     const double t0 = now();
     const io::RgbImage img = r.render({&panel, 1}, scale, style);
@@ -75,7 +75,7 @@ int run_bench_render(const BenchRenderOptions& o) {
   // llvmpipe reads LP_NUM_THREADS when the first context is created.
   const std::string threads = std::to_string(o.gl_threads);
   ::setenv("LP_NUM_THREADS", threads.c_str(), 1);
-  const coopt::RunConfig setup = coopt::read_run_config(o.config);
+  const run::RunConfig setup = run::read_run_config(o.config);
   io::RenderConfig rc = setup.render;
   rc.width = o.width;
   rc.height = o.height;
@@ -83,8 +83,8 @@ int run_bench_render(const BenchRenderOptions& o) {
   auto sims = std::make_shared<coopt::SimulatorPool>(setup.spec, setup.scene, setup.solver);
   const io::SimScenario& sc = setup.scenario;
   coopt::EpisodeSetup es{sc.design, sc.pressures_kPa[0], sc.pressures_kPa[1], 0.0, 0.0};
-  std::vector<coopt::RecordedFrame> frames =
-      coopt::record_episode(sims, setup.task, es, nullptr, 1, coopt::design_title(es.design, es.p1_kPa, es.p2_kPa));
+  std::vector<run::RecordedFrame> frames =
+      run::record_episode(sims, setup.task, es, nullptr, 1, run::design_title(es.design, es.p1_kPa, es.p2_kPa));
   if (static_cast<int>(frames.size()) > o.frames) frames.resize(static_cast<std::size_t>(o.frames));
 
   io::Renderer r(o.width, o.height);

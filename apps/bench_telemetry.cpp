@@ -17,8 +17,8 @@
 #include <string>
 
 #include "base/errors.hpp"
-#include "codesign/run.hpp"
-#include "codesign/run_config.hpp"
+#include "run/run.hpp"
+#include "run/run_config.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 
@@ -56,11 +56,11 @@ class TempDir {
 };
 
 int run_bench_telemetry(const BenchTelemetryOptions& o) {
-  const coopt::RunConfig setup = coopt::read_run_config(o.config);
+  const run::RunConfig setup = run::read_run_config(o.config);
   std::ifstream in(o.config, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
-  coopt::RunSettings s;
+  run::RunSettings s;
   s.spec = setup.spec;
   s.scene = setup.scene;
   s.solver = setup.solver;
@@ -80,18 +80,18 @@ int run_bench_telemetry(const BenchTelemetryOptions& o) {
   std::printf("bench telemetry: %s, %d iterations (%lld timesteps), train_decision_every %d, URL %s\n", o.config.c_str(),
               o.iterations, static_cast<long long>(stop), setup.telemetry_train_every, url.c_str());
   auto run = [&](const std::string& name, const std::string& telemetry_url) {
-    coopt::RunOptions ro;
+    run::RunOptions ro;
     ro.dir = (tmp.path() / name).string();
     ro.threads = static_cast<std::size_t>(o.threads);
     ro.progress = false;
     ro.stop_after = stop;
     ro.telemetry_url = telemetry_url;
     ro.telemetry_train_every = setup.telemetry_train_every;
-    return coopt::run_codesign(s, ro);
+    return run::run_codesign(s, ro);
   };
-  const coopt::RunResult off = run("off", "");
+  const run::RunResult off = run("off", "");
   std::printf("  telemetry off: %.2f s\n", off.wall_s);
-  const coopt::RunResult on = run("on", url);
+  const run::RunResult on = run("on", url);
   std::printf("  telemetry on:  %.2f s, %lld messages", on.wall_s, static_cast<long long>(on.telemetry_messages));
   const fs::path log = tmp.path() / "bench.lcm";
   std::error_code ec;
