@@ -16,8 +16,8 @@
 #include "base/errors.hpp"
 #include "codesign/design_sweep.hpp"
 #include "codesign/pid_tuning.hpp"
-#include "codesign/run_config.hpp"
-#include "codesign/run_folder.hpp"
+#include "run/run_config.hpp"
+#include "run/run_folder.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
@@ -50,7 +50,7 @@ void toml_test(std::ostream& out, double tuning_return, int evaluations, const c
 }
 
 int run_baseline(const BaselineOptions& o) {
-  const coopt::RunConfig setup = coopt::read_run_config(o.config);
+  const run::RunConfig setup = run::read_run_config(o.config);
   if (o.design < 0 || o.design >= fem::kDesignCount)
     throw InputError("--design: " + std::to_string(o.design) + " is out of range; allowed [0, 109]");
   const double pmax = setup.task.pressure_max_kPa;
@@ -96,7 +96,7 @@ int run_baseline(const BaselineOptions& o) {
                   "samples of %d open-loop episodes (theta centred on %.3f deg): R^2 %.4f, rms %.2f mN\n",
                   name.c_str(), fit.estimator.c0, fit.estimator.c1, fit.estimator.c2, fit.samples, r.estimator.episodes,
                   r.estimator.theta_centre_rad * 180.0 / std::numbers::pi, fit.r2, fit.rms_mN);
-    coopt::write_evaluation(dir / coopt::run_file::kEvalDir, name, r.test, estimate ? &fit.estimator : nullptr);
+    run::write_evaluation(dir / run::run_file::kEvalDir, name, r.test, estimate ? &fit.estimator : nullptr);
     std::printf("baseline: %-11s kp %.4g ki %.4g kd %.4g setpoint %.6g: tuning return %.2f (%d evaluations); "
                 "test return %.2f +- %.2f over %zu episodes (band %.0f%%)\n",
                 name.c_str(), r.pid.gains.kp, r.pid.gains.ki, r.pid.gains.kd, r.pid.setpoint, r.tuning_return,
@@ -125,7 +125,7 @@ int run_baseline(const BaselineOptions& o) {
   }
   const coopt::FixedThetaTuning ft =
       coopt::tune_fixed_theta(sims, task, es, setup.sweep.fixed_theta, pc.tuning_phases, pc.test_episodes, threads);
-  coopt::write_evaluation(dir / coopt::run_file::kEvalDir, "fixed_theta", ft.test);
+  run::write_evaluation(dir / run::run_file::kEvalDir, "fixed_theta", ft.test);
   std::printf("baseline: %-11s theta0 %.3f deg: tuning return %.2f (%d evaluations); test return %.2f +- %.2f over "
               "%zu episodes (band %.0f%%)\n",
               "fixed_theta", ft.theta0_rad * 180.0 / std::numbers::pi, ft.tuning_return, ft.evaluations,

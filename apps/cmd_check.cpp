@@ -15,14 +15,14 @@
 #include <vector>
 
 #include "base/errors.hpp"
-#include "codesign/checkpoint.hpp"
-#include "codesign/file_fit.hpp"
-#include "codesign/run_config.hpp"
 #include "commands.hpp"
 #include "fem/mesh_ops.hpp"
 #include "io/msh.hpp"
 #include "rl/layer_sizes.hpp"
 #include "rl/policy_file.hpp"
+#include "run/checkpoint.hpp"
+#include "run/file_fit.hpp"
+#include "run/run_config.hpp"
 
 namespace codesign::app {
 
@@ -59,11 +59,11 @@ int check_policy(const CheckOptions& o) {
   const rl::MlpT<float>& actor_mlp = p.recurrent ? p.recurrent->actor() : p.model.actor();
   const rl::MlpT<float>& critic_mlp = p.recurrent ? p.recurrent->critic() : p.model.critic();
   const std::vector<int> actor = rl::hidden_sizes(actor_mlp.sizes()), critic = rl::hidden_sizes(critic_mlp.sizes());
-  if (!o.config.empty()) coopt::check_policy_fits(p, o.file, coopt::read_run_config(o.config), o.config);
+  if (!o.config.empty()) run::check_policy_fits(p, o.file, run::read_run_config(o.config), o.config);
   std::printf("%s: policy: obs_dim %d, act_dim %d, %sactor %s, critic %s%s, observation normalisation %s%s\n",
               o.file.c_str(), p.obs_dim(), p.act_dim(),
               p.recurrent ? ("GRU " + std::to_string(p.recurrent->gru_hidden()) + " before each MLP, ").c_str() : "",
-              coopt::sizes_text(actor).c_str(), coopt::sizes_text(critic).c_str(),
+              run::sizes_text(actor).c_str(), run::sizes_text(critic).c_str(),
               p.privileged_dim() > 0 ? (" (+" + std::to_string(p.privileged_dim()) + " privileged inputs)").c_str()
                                      : "",
               p.obs_norm ? "yes" : "no", o.config.empty() ? "" : "; fits the config");
@@ -73,7 +73,7 @@ int check_policy(const CheckOptions& o) {
 int check_checkpoint(const CheckOptions& o) {
   if (o.config.empty())
     throw InputError("checkpoint " + o.file + ": --config is required to check a checkpoint (the run's config.toml)");
-  const coopt::Checkpoint c = coopt::load_fitting_checkpoint(o.file, coopt::read_run_config(o.config), o.config);
+  const run::Checkpoint c = run::load_fitting_checkpoint(o.file, run::read_run_config(o.config), o.config);
   std::printf("%s: checkpoint at t = %lld, iteration %d, %zu logs; fits the config\n", o.file.c_str(),
               static_cast<long long>(c.loop.t), c.loop.k, c.logs.size());
   return 0;

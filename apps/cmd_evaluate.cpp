@@ -2,7 +2,7 @@
 //
 // The deterministic policy of a run's state (its latest checkpoint, or those kept at T1 and T2)
 // tested on every design of the range at the pressures that state gives it, ranked, into
-// DIR/evaluate/<at>/ (src/codesign/run_evaluation.hpp). Run the same command again to continue a
+// DIR/evaluate/<at>/ (src/run/run_evaluation.hpp). Run the same command again to continue a
 // stopped evaluation.
 #include <algorithm>
 #include <cstdio>
@@ -12,8 +12,8 @@
 
 #include "base/duration_text.hpp"
 #include "base/errors.hpp"
-#include "codesign/run_config.hpp"
-#include "codesign/run_evaluation.hpp"
+#include "run/run_config.hpp"
+#include "run/run_evaluation.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
@@ -42,17 +42,17 @@ int run_evaluate(const EvaluateCliOptions& o) {
   const fs::path dir(o.run);
   if (!fs::exists(dir / "config.toml"))
     throw InputError(dir.string() + ": has no config.toml; evaluate needs a co-design run folder");
-  coopt::RunEvaluationOptions eo;
+  run::RunEvaluationOptions eo;
   eo.dir = o.run;
   eo.at = o.at;
-  coopt::checkpoint_file_of(o.at);  // a bad --at before the config is read
+  run::checkpoint_file_of(o.at);  // a bad --at before the config is read
   if (!o.designs.empty()) std::tie(eo.first_design, eo.last_design) = parse_design_range(o.designs);
   eo.phases = o.phases;
   eo.threads = static_cast<std::size_t>(o.threads);
   eo.force = o.force;
   eo.plots_dir = o.plots;
-  const coopt::RunConfig setup = coopt::read_run_config((dir / "config.toml").string());
-  coopt::RunSettings s;
+  const run::RunConfig setup = run::read_run_config((dir / "config.toml").string());
+  run::RunSettings s;
   s.spec = setup.spec;
   s.scene = setup.scene;
   s.solver = setup.solver;
@@ -60,16 +60,16 @@ int run_evaluate(const EvaluateCliOptions& o) {
   std::printf("evaluate: %s at %s: designs %d..%d, %d plate phases each\n", o.run.c_str(), o.at.c_str(),
               eo.first_design, eo.last_design, o.phases > 0 ? o.phases : setup.codesign.eval_episodes);
   std::fflush(stdout);
-  const coopt::RunEvaluationSummary r = coopt::evaluate_run(s, eo);
+  const run::RunEvaluationSummary r = run::evaluate_run(s, eo);
   const auto find = [&](int j) {
-    return std::find_if(r.ranking.begin(), r.ranking.end(), [j](const coopt::RunEvaluationRow& x) { return x.design == j; });
+    return std::find_if(r.ranking.begin(), r.ranking.end(), [j](const run::RunEvaluationRow& x) { return x.design == j; });
   };
   std::printf("evaluate: t = %lld; %d designs run now, %d before; this call took %s\n", static_cast<long long>(r.t),
               r.designs_run, r.designs_before, duration_text(r.wall_s).c_str());
   std::printf("evaluate: top %zu by test return (mean +- 95 %% interval over the phases):\n",
               std::min<std::size_t>(10, r.ranking.size()));
   for (std::size_t i = 0; i < std::min<std::size_t>(10, r.ranking.size()); ++i) {
-    const coopt::RunEvaluationRow& x = r.ranking[i];
+    const run::RunEvaluationRow& x = r.ranking[i];
     std::printf("  %3d  %-24s p=[%.4g, %.4g] kPa  %6.2f +- %.2f  q %.4f%s%s\n", x.rank,
                 fem::design_label(x.design).c_str(), x.p1_kPa, x.p2_kPa, x.mean_return, x.ci95, x.q,
                 x.role.empty() ? "" : "  ", x.role.c_str());

@@ -1,7 +1,7 @@
 // `codesign figures --run runs/NAME [--compare LABEL=DIR ...] [--plots DIR] [--window N] [--bins N]
 //                   [--gnuplot PATH]`
 //
-// The paper's Figs. 2a–2d and 3 from a run folder (codesign/figures.hpp): data files into
+// The paper's Figs. 2a–2d and 3 from a run folder (run/figures.hpp): data files into
 // RUN/figures/data/, then gnuplot draws RUN/figures/fig2a.png ... fig3.png with the scripts of
 // plots/ (this source tree's, compiled in as CODESIGN_PLOTS_DIR, or --plots DIR).
 // Exit status: 0 when every figure the data allows was drawn, 1 when gnuplot is missing or a
@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "base/errors.hpp"
-#include "codesign/figures.hpp"
-#include "codesign/run.hpp"
+#include "run/figures.hpp"
+#include "run/run.hpp"
 #include "io/run_lock.hpp"
 #include "commands.hpp"
 
@@ -34,8 +34,8 @@ struct FiguresCliOptions {
   std::string gnuplot = "gnuplot";
 };
 
-coopt::FigureOptions to_options(const FiguresCliOptions& c) {
-  coopt::FigureOptions o;
+run::FigureOptions to_options(const FiguresCliOptions& c) {
+  run::FigureOptions o;
   o.run_dir = c.run;
   o.plots_dir = c.plots;
   o.window = c.window;
@@ -53,10 +53,10 @@ coopt::FigureOptions to_options(const FiguresCliOptions& c) {
 
 int figures_main(const FiguresCliOptions& c) {
   // It writes RUN/figures/: not while a run writes the folder (draw_run_figures runs under the run's lock).
-  const std::unique_ptr<io::RunLock> lock = coopt::lock_run_folder(c.run, /*only_if_exists=*/true);
-  const coopt::FiguresReport report = coopt::make_figures(to_options(c));
+  const std::unique_ptr<io::RunLock> lock = run::lock_run_folder(c.run, /*only_if_exists=*/true);
+  const run::FiguresReport report = run::make_figures(to_options(c));
   int failed = 0;
-  for (const coopt::FigureOutcome& f : report.figures) {
+  for (const run::FigureOutcome& f : report.figures) {
     if (f.drawn) {
       std::printf("figures: %s\n", f.png.c_str());
     } else {
@@ -74,10 +74,10 @@ int figures_main(const FiguresCliOptions& c) {
 
 bool draw_run_figures(const std::string& run_dir) {
   try {
-    coopt::FigureOptions o;
+    run::FigureOptions o;
     o.run_dir = run_dir;
     o.plots_dir = CODESIGN_PLOTS_DIR;
-    const coopt::FiguresReport report = coopt::make_figures(o);
+    const run::FiguresReport report = run::make_figures(o);
     if (report.gnuplot_missing) {
       std::fprintf(stderr,
                    "codesign: warning: figures not drawn: gnuplot not found (install gnuplot-nox); "
@@ -86,7 +86,7 @@ bool draw_run_figures(const std::string& run_dir) {
       return false;
     }
     std::string problems;
-    for (const coopt::FigureOutcome& f : report.figures)
+    for (const run::FigureOutcome& f : report.figures)
       if (!f.drawn) problems += (problems.empty() ? "" : "; ") + f.name + ": " + f.message;
     if (!problems.empty()) {
       std::fprintf(stderr, "codesign: warning: figures: %s\n", problems.c_str());

@@ -13,9 +13,9 @@
 #include "base/errors.hpp"
 #include "codesign/policy_controller.hpp"
 #include "codesign/refine.hpp"
-#include "codesign/run.hpp"
-#include "codesign/run_config.hpp"
-#include "codesign/run_folder.hpp"
+#include "run/run.hpp"
+#include "run/run_config.hpp"
+#include "run/run_folder.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "io/run_lock.hpp"
@@ -39,18 +39,18 @@ struct RefineCliOptions {
 int run_refine(const RefineCliOptions& o) {
   const fs::path dir(o.run);
   // It rewrites DIR/result.toml: not while a run writes the folder.
-  const std::unique_ptr<io::RunLock> lock = coopt::lock_run_folder(o.run, /*only_if_exists=*/true);
-  for (const char* f : {coopt::run_file::kConfig, coopt::run_file::kPolicy, coopt::run_file::kResult})
+  const std::unique_ptr<io::RunLock> lock = run::lock_run_folder(o.run, /*only_if_exists=*/true);
+  for (const char* f : {run::run_file::kConfig, run::run_file::kPolicy, run::run_file::kResult})
     if (!fs::exists(dir / f))
       throw InputError(dir.string() + ": has no " + f + "; refine needs a finished co-design run folder");
-  const coopt::RunConfig setup = coopt::read_run_config((dir / coopt::run_file::kConfig).string());
-  const std::string result_path = (dir / coopt::run_file::kResult).string();
-  const std::optional<coopt::ResultDesign> best =
-      coopt::read_result_design(dir, "best", setup.task.pressure_max_kPa);
+  const run::RunConfig setup = run::read_run_config((dir / run::run_file::kConfig).string());
+  const std::string result_path = (dir / run::run_file::kResult).string();
+  const std::optional<run::ResultDesign> best =
+      run::read_result_design(dir, "best", setup.task.pressure_max_kPa);
   if (!best) throw InputError(result_path + ": has no [best] design");
   const int design = best->setup.design;
   const std::vector<double> p{best->setup.p1_kPa, best->setup.p2_kPa};
-  const std::shared_ptr<const rl::Policy> loaded = coopt::load_task_policy(dir / coopt::run_file::kPolicy, setup.task);
+  const std::shared_ptr<const rl::Policy> loaded = coopt::load_task_policy(dir / run::run_file::kPolicy, setup.task);
   coopt::RefineConfig rc;
   rc.tuning_phases = o.phases;
   rc.test_episodes = setup.codesign.eval_episodes;
@@ -76,7 +76,7 @@ int run_refine(const RefineCliOptions& o) {
               "(%d evaluations)\n",
               r.p_after[0], r.p_after[1], r.tuning_after, r.test_after.mean_return, r.test_after.std_return,
               r.test_after.returns.size(), r.evaluations);
-  coopt::write_refined_result(dir, r);
+  run::write_refined_result(dir, r);
   std::printf("refine: wrote [refined] into %s\n", result_path.c_str());
   return 0;
 }

@@ -22,15 +22,15 @@
 #include <vector>
 
 #include "base/errors.hpp"
-#include "codesign/episode_render.hpp"
 #include "codesign/evaluation.hpp"
 #include "codesign/policy_controller.hpp"
-#include "codesign/run.hpp"
-#include "codesign/run_config.hpp"
-#include "codesign/run_folder.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
 #include "io/run_lock.hpp"
+#include "run/episode_render.hpp"
+#include "run/run.hpp"
+#include "run/run_config.hpp"
+#include "run/run_folder.hpp"
 
 namespace codesign::app {
 
@@ -61,7 +61,7 @@ int run_render(const RenderCliOptions& o) {
   if (o.config.empty() == o.run.empty()) throw InputError("command line: give exactly one of --config and --run");
   const fs::path run_dir(o.run);
   const std::string config = o.run.empty() ? o.config : (run_dir / "config.toml").string();
-  const coopt::RunConfig setup = coopt::read_run_config(config);
+  const run::RunConfig setup = run::read_run_config(config);
   io::RenderConfig rc = setup.render;
   if (o.width) rc.width = *o.width;
   if (o.height) rc.height = *o.height;
@@ -80,7 +80,7 @@ int run_render(const RenderCliOptions& o) {
                      "--compare and --sim go with --config");
 
   // Frames written into a run folder: not while a run writes it.
-  const std::unique_ptr<io::RunLock> lock = o.run.empty() ? nullptr : coopt::lock_run_folder_for_output(o.run, o.out);
+  const std::unique_ptr<io::RunLock> lock = o.run.empty() ? nullptr : run::lock_run_folder_for_output(o.run, o.out);
   // Refuse before simulating (write_frames checks again before writing).
   std::error_code ec;
   if (!o.force && fs::exists(fs::path(o.out) / "frame_0000.png", ec))
@@ -91,24 +91,24 @@ int run_render(const RenderCliOptions& o) {
   const coopt::TaskConfig& task = setup.task;
   const int eval_n = setup.codesign.eval_episodes;
   const double phase = o.phase_deg ? *o.phase_deg * std::numbers::pi / 180.0 : coopt::evaluation_phase(0, eval_n);
-  std::vector<std::vector<coopt::RecordedFrame>> seqs;
+  std::vector<std::vector<run::RecordedFrame>> seqs;
   if (!o.run.empty()) {
     const std::shared_ptr<const rl::Policy> policy =
-        coopt::load_task_policy(o.policy.empty() ? run_dir / coopt::run_file::kPolicy : fs::path(o.policy), task);
+        coopt::load_task_policy(o.policy.empty() ? run_dir / run::run_file::kPolicy : fs::path(o.policy), task);
     std::vector<std::string> whiches;
     if (o.which == "both")
       whiches = {"best", "runner_up"};
     else
       whiches = {o.which};
     for (const std::string& w : whiches) {
-      const std::optional<coopt::ResultDesign> result = coopt::read_result_design(run_dir, w);
+      const std::optional<run::ResultDesign> result = run::read_result_design(run_dir, w);
       if (!result)
-        throw InputError((run_dir / coopt::run_file::kResult).string() + ": has no [" + w + "] design");
+        throw InputError((run_dir / run::run_file::kResult).string() + ": has no [" + w + "] design");
       coopt::EpisodeSetup s = result->setup;
       s.plate_phase_rad = phase;
-      seqs.push_back(coopt::record_episode(sims, task, s, coopt::episode_controller(policy), rc.every_steps,
+      seqs.push_back(run::record_episode(sims, task, s, coopt::episode_controller(policy), rc.every_steps,
                                            (w == "best" ? "d*: " : "runner-up: ") +
-                                               coopt::design_title(s.design, s.p1_kPa, s.p2_kPa)));
+                                               run::design_title(s.design, s.p1_kPa, s.p2_kPa)));
     }
   } else {
     const std::shared_ptr<const rl::Policy> policy = o.policy.empty() ? nullptr : coopt::load_task_policy(o.policy, task);
@@ -121,15 +121,15 @@ int run_render(const RenderCliOptions& o) {
       if (j < 0 || j >= fem::kDesignCount)
         throw InputError("command line: design " + std::to_string(j) + " is out of range; allowed [0, " +
                          std::to_string(fem::kDesignCount - 1) + "]");
-      const std::string title = coopt::design_title(j, p[0], p[1]);
+      const std::string title = run::design_title(j, p[0], p[1]);
       if (o.sim) {
         io::SimScenario s = sc;
         s.design = j;
         s.pressures_kPa = p;
-        seqs.push_back(coopt::record_scenario(sims, task, s, rc.every_steps, "sim: " + title));
+        seqs.push_back(run::record_scenario(sims, task, s, rc.every_steps, "sim: " + title));
       } else {
         coopt::EpisodeSetup s{j, p[0], p[1], phase, 0.0};
-        seqs.push_back(coopt::record_episode(sims, task, s,
+        seqs.push_back(run::record_episode(sims, task, s,
                                              policy ? coopt::episode_controller(policy) : coopt::Controller{},
                                              rc.every_steps,
                                              (o.policy.empty() ? "base held: " : "policy: ") + title));
@@ -137,7 +137,7 @@ int run_render(const RenderCliOptions& o) {
     }
   }
   const auto t0 = std::chrono::steady_clock::now();
-  const int n = coopt::write_frames(o.out, seqs, rc, o.force);
+  const int n = run::write_frames(o.out, seqs, rc, o.force);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("render: %d frames (%dx%d, %zu panel%s) in %.2f s (%.1f frames/s incl. PNG) -> %s\n", n, rc.width,
               rc.height, seqs.size(), seqs.size() > 1 ? "s" : "", s, n / std::max(s, 1e-9), o.out.c_str());

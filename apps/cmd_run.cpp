@@ -2,7 +2,7 @@
 // (also the main job: `codesign --config run.toml -o runs/NAME`).
 //
 // Runs the co-design (Algorithm 1 + 2) of the config's [codesign], [task], [ppo] and simulator
-// tables, writing the run folder described in src/codesign/run.hpp, then its figures
+// tables, writing the run folder described in src/run/run.hpp, then its figures
 // (`codesign figures`, cmd_figures.cpp) into RUN/figures/.
 #include <filesystem>
 #include <fstream>
@@ -12,10 +12,10 @@
 #include <string>
 
 #include "base/errors.hpp"
-#include "codesign/episode_render.hpp"
-#include "codesign/run.hpp"
-#include "codesign/run_config.hpp"
-#include "codesign/stop_signals.hpp"
+#include "run/episode_render.hpp"
+#include "run/run.hpp"
+#include "run/run_config.hpp"
+#include "run/stop_signals.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "io/run_lock.hpp"
@@ -38,7 +38,7 @@ struct RunCliOptions {
 };
 
 int run_main_job(const RunCliOptions& o) {
-  const coopt::RunConfig setup = coopt::read_run_config(o.config);
+  const run::RunConfig setup = run::read_run_config(o.config);
   // One rollout of ppo.n_steps decisions is one episode per environment (Algorithm 1).
   const int decisions = setup.task.episode_steps / setup.task.action_hold_steps;
   if (setup.ppo.n_steps != decisions)
@@ -47,7 +47,7 @@ int run_main_job(const RunCliOptions& o) {
                      std::to_string(decisions));
   // Default run folder: runs/<config file name without extension>.
   const std::string out = o.out.empty() ? "runs/" + std::filesystem::path(o.config).stem().string() : o.out;
-  coopt::RunSettings s;
+  run::RunSettings s;
   s.spec = setup.spec;
   s.scene = setup.scene;
   s.solver = setup.solver;
@@ -55,9 +55,9 @@ int run_main_job(const RunCliOptions& o) {
   s.config_text = io::TableReader::input_text(o.config);
   // SIGTERM / SIGINT stop the run at the next iteration's end with a checkpoint (stop_signals.hpp),
   // and the run folder stays locked from here through the frames and figures.
-  const coopt::StopSignals signals;
-  const std::unique_ptr<io::RunLock> lock = coopt::lock_run_folder(out, /*only_if_exists=*/o.resume);
-  coopt::RunOptions ro;
+  const run::StopSignals signals;
+  const std::unique_ptr<io::RunLock> lock = run::lock_run_folder(out, /*only_if_exists=*/o.resume);
+  run::RunOptions ro;
   ro.lock = lock.get();
   ro.dir = out;
   ro.resume = o.resume;
@@ -67,17 +67,17 @@ int run_main_job(const RunCliOptions& o) {
   ro.stop_after = o.stop_after;
   ro.telemetry_url = o.telemetry ? *o.telemetry : setup.telemetry_url;
   ro.telemetry_train_every = setup.telemetry_train_every;
-  const coopt::RunResult r = coopt::run_codesign(s, ro);
+  const run::RunResult r = run::run_codesign(s, ro);
   if (r.stop_signal != 0) return 128 + r.stop_signal;  // as a shell reports a process the signal ended
   if (!r.completed) return 4;
   // A signal after result.toml was written skips the frames and figures still to draw.
   const bool frames = setup.render.enabled, figures = !o.no_figures;
-  if (const int st = coopt::stop_after_run(out, frames, figures); st != 0) return st;
+  if (const int st = run::stop_after_run(out, frames, figures); st != 0) return st;
   // The first evaluation episodes of d* and the runner-up as PNG frames ([render], docs/rendering.md).
   if (frames)
-    coopt::render_run_frames(out, std::make_shared<coopt::SimulatorPool>(s.spec, s.scene, s.solver), s.loop.task,
+    run::render_run_frames(out, std::make_shared<coopt::SimulatorPool>(s.spec, s.scene, s.solver), s.loop.task,
                              s.loop.codesign.eval_episodes, setup.render, /*force=*/true);
-  if (const int st = coopt::stop_after_run(out, false, figures); st != 0) return st;
+  if (const int st = run::stop_after_run(out, false, figures); st != 0) return st;
   // The paper's figures from the finished run (RUN/figures/); a problem there is a warning only.
   if (figures) draw_run_figures(out);
   return 0;

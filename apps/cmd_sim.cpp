@@ -14,7 +14,7 @@
 #include <numbers>
 #include <string>
 
-#include "codesign/run_config.hpp"
+#include "run/run_config.hpp"
 #include "commands.hpp"
 #include "base/errors.hpp"
 #include "io/csv_writer.hpp"
@@ -46,7 +46,7 @@ void write_vtk_frame(const fs::path& file, const fem::Simulator& sim) {
 }
 
 int run_sim(const SimOptions& opt) {
-  const coopt::RunConfig setup = coopt::read_run_config(opt.config);
+  const run::RunConfig setup = run::read_run_config(opt.config);
   const io::SimScenario& sc = setup.scenario;
   const int vtk_every = opt.vtk_every >= 0 ? opt.vtk_every : sc.vtk_every;
   const fs::path dir(opt.out);

@@ -20,7 +20,7 @@
 
 #include "base/errors.hpp"
 #include "codesign/evaluation.hpp"
-#include "codesign/run_config.hpp"
+#include "run/run_config.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "fem/design.hpp"
@@ -52,7 +52,7 @@ struct DesignRow {
 };
 
 int run_survey(const SurveyOptions& o) {
-  const coopt::RunConfig setup = coopt::read_run_config(o.config);
+  const run::RunConfig setup = run::read_run_config(o.config);
   const auto [first, last] = parse_design_range(o.designs);
   const fs::path dir(o.out);
   std::error_code ec;

@@ -18,7 +18,7 @@
 
 #include "base/duration_text.hpp"
 #include "codesign/design_sweep.hpp"
-#include "codesign/run_config.hpp"
+#include "run/run_config.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "io/gnuplot.hpp"
@@ -76,7 +76,7 @@ void plot_heatmaps(const fs::path& dir, const coopt::SweepConfig& sweep, const s
 }
 
 int run_sweep_command(const SweepCliOptions& o) {
-  coopt::RunConfig setup = coopt::read_run_config(o.config);
+  run::RunConfig setup = run::read_run_config(o.config);
   if (!o.designs.empty()) std::tie(setup.sweep.first_design, setup.sweep.last_design) = parse_design_range(o.designs);
   auto sims = std::make_shared<coopt::SimulatorPool>(setup.spec, setup.scene, setup.solver);
   coopt::SweepOptions so;

@@ -1,5 +1,5 @@
 #pragma once
-// Sub-commands of the `codesign` binary. Each apps/cmd_*.cpp (or bench_*.cpp) adds its own
+// Sub-commands of the `codesign` binary. Each apps/cmd_*.cpp (or apps/bench/bench_*.cpp) adds its own
 // sub-command to the parent it is given and, when the user selects it, stores in `run` the
 // work to do. main.cpp parses the command line, then calls `run` and returns its exit code.
 // Errors in user input are thrown as codesign::InputError (base/errors.hpp); main prints them
@@ -30,10 +30,10 @@ void add_sweep_command(CLI::App& root, Runner& run);      // cmd_sweep.cpp
 void add_refine_command(CLI::App& root, Runner& run);     // cmd_refine.cpp
 void add_evaluate_command(CLI::App& root, Runner& run);   // cmd_evaluate.cpp
 // `codesign bench <what>`: main.cpp creates the `bench` parent.
-void add_bench_fem_command(CLI::App& bench, Runner& run);  // bench_fem.cpp
-void add_bench_ppo_command(CLI::App& bench, Runner& run);  // bench_ppo.cpp
-void add_bench_codesign_command(CLI::App& bench, Runner& run);  // bench_codesign.cpp
-void add_bench_telemetry_command(CLI::App& bench, Runner& run);  // bench_telemetry.cpp
-void add_bench_render_command(CLI::App& bench, Runner& run);  // bench_render.cpp
+void add_bench_fem_command(CLI::App& bench, Runner& run);  // bench/bench_fem.cpp
+void add_bench_ppo_command(CLI::App& bench, Runner& run);  // bench/bench_ppo.cpp
+void add_bench_codesign_command(CLI::App& bench, Runner& run);  // bench/bench_codesign.cpp
+void add_bench_telemetry_command(CLI::App& bench, Runner& run);  // bench/bench_telemetry.cpp
+void add_bench_render_command(CLI::App& bench, Runner& run);  // bench/bench_render.cpp
 
 }  // namespace codesign::app

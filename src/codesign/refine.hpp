@@ -45,6 +45,6 @@ RefineResult refine_pressures(const Controller& policy, const std::shared_ptr<Si
 // result.toml's text with the [refined] table of `r` appended (an earlier [refined] table is
 // removed; all other bytes are kept as they are).
 std::string with_refined_table(const std::string& result_toml, const RefineResult& r);
-// (run_folder.hpp's write_refined_result applies it to a run folder's result.toml.)
+// (run/run_folder.hpp's write_refined_result applies it to a run folder's result.toml.)
 
 }  // namespace codesign::coopt

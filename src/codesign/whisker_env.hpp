@@ -109,7 +109,7 @@ class WhiskerEnv final : public rl::Env {
   void set_recording(bool on) { recording_ = on; }
   const std::vector<TraceRow>& trace() const { return trace_; }
   // Called with the simulator and the new row each time a trace row is kept (recording on):
-  // after settling and after every simulation step. For renders (episode_render.hpp).
+  // after settling and after every simulation step. For renders (run/episode_render.hpp).
   using StepObserver = std::function<void(const fem::Simulator&, const TraceRow&)>;
   void set_step_observer(StepObserver observer) { observer_ = std::move(observer); }
 

@@ -1,4 +1,4 @@
-// libFuzzer harness: the checkpoint reader (coopt::parse_checkpoint = load_checkpoint without
+// libFuzzer harness: the checkpoint reader (run::parse_checkpoint = load_checkpoint without
 // the file), then the checks a resumed run applies to what it read before using it: the design
 // distribution's state against the paper's 110 designs, the three RNG states, Adam's moments.
 #include <cstddef>
@@ -6,11 +6,11 @@
 #include <cstring>
 
 #include "base/errors.hpp"
-#include "codesign/checkpoint.hpp"
 #include "codesign/outer_loop.hpp"
 #include "fuzz_common.hpp"
 #include "rl/adam.hpp"
 #include "rl/rng.hpp"
+#include "run/checkpoint.hpp"
 
 namespace {
 
@@ -22,7 +22,7 @@ void parse(std::span<const unsigned char> bytes) {
   std::uint64_t fp = 0;
   if (bytes.size() >= 20) std::memcpy(&fp, bytes.data() + 12, 8);
   try {
-    const coopt::Checkpoint c = coopt::parse_checkpoint(bytes, "fuzz.ckpt", fp);
+    const run::Checkpoint c = run::parse_checkpoint(bytes, "fuzz.ckpt", fp);
     const coopt::LoopState& s = c.loop;
     const coopt::DistributionConfig dc = coopt::distribution_config(coopt::CodesignConfig{}, coopt::TaskConfig{});
     try {

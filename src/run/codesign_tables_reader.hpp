@@ -1,0 +1,22 @@
+#pragma once
+// Reads the [task] and [codesign] tables of a run config into the co-design value types.
+#include "codesign/codesign_config.hpp"
+#include "codesign/design_sweep.hpp"
+#include "codesign/pid_tuning.hpp"
+#include "codesign/task_config.hpp"
+#include "io/toml_reader.hpp"
+
+namespace codesign::run {
+
+using namespace coopt;  // the run layer works on the co-design core's types (src/codesign)
+
+// [task], and [faults] into TaskConfig::faults.
+TaskConfig read_task_config(io::TableReader& root);
+// The [codesign] table; pressure ranges come from the task (read it first).
+CodesignConfig read_codesign_config(io::TableReader& root, const TaskConfig& task);
+// The [pid] table (PID gain bounds, start, search budget, tuning and test phases).
+PidTuningConfig read_pid_config(io::TableReader& root);
+// The [sweep] table (pressure grid, controllers, fixed-θ budget, design range).
+SweepConfig read_sweep_config(io::TableReader& root, const TaskConfig& task);
+
+}  // namespace codesign::run

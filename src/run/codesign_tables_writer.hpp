@@ -1,0 +1,35 @@
+#pragma once
+// Writing the co-design tables back as TOML (the inverse of codesign_tables_reader.hpp), and the whole
+// resolved config of a run: every table and key the run reads, with the value it uses.
+#include <ostream>
+#include <string>
+
+#include "codesign/codesign_config.hpp"
+#include "codesign/task_config.hpp"
+#include "fem/simulator.hpp"
+#include "fem/whisker_model.hpp"
+
+namespace codesign::coopt {
+struct LoopConfig;  // outer_loop.hpp
+}
+
+namespace codesign::run {
+
+using namespace coopt;  // the run layer works on the co-design core's types (src/codesign)
+
+// [task] (observation as its name).
+void write_task_table(std::ostream& out, const TaskConfig& task);
+// [faults] (resolved_run_config writes it only when a fault is enabled).
+void write_faults_table(std::ostream& out, const FaultConfig& faults);
+// [codesign] (baseline as "none" / "single_design", plate_phase_deg in degrees).
+void write_codesign_table(std::ostream& out, const CodesignConfig& codesign);
+
+// The resolved config of a co-design run: a header comment, then [material], [scene],
+// [solver], [geometry], [mesh], [fibres] (io::write_fem_tables), [task], [faults] (if enabled), [codesign] and [ppo]
+// (io::write_ppo_table). No [sim]: the run does not read it. Reading the text back (the readers
+// of io/fem_config.hpp, io/mesh_config.hpp, codesign_tables_reader.hpp and read_ppo_config over
+// rl::paper_ppo_config()) gives the same values, so resolving that again gives the same text.
+std::string resolved_run_config(const fem::WhiskerModelSpec& spec, const fem::SceneConfig& scene,
+                                const fem::SolverConfig& solver, const LoopConfig& loop);
+
+}  // namespace codesign::run

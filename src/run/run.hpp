@@ -1,0 +1,104 @@
+#pragma once
+// A whole co-design run in a run folder: Algorithm 1 with checkpoints and logs, then the
+// evaluation of d* and the runner-up, then result.toml and policy.bin.
+//
+// Run folder (DIR):
+//   config.toml        the resolved config: every key the run reads, with the value used
+//                      (checkpoints carry its fingerprint; resuming checks it)
+//   config.input.toml  the config file as given
+//   episodes.csv       every episode of training (first = the one fed to Algorithm 2)
+//   ppo.csv            one row per PPO update
+//   distribution.csv   one row per distribution update: phase, β, entropy, top designs, best
+//   q_disc.csv         the 110 probabilities per update
+//   sampled.csv        the sampled designs per update with μ, σ (kPa) of their q_cont after it
+//   checkpoint.bin     everything needed to resume (checkpoint.hpp), written atomically
+//   policy.bin         the final policy (rl/policy_file.hpp)
+//   result.toml        [best], [runner_up], [run]
+//   eval/<which>.csv   per-episode results of the final evaluation; eval/<which>_trace.csv the
+//                      per-step trace of its first episode
+// Resuming (options.resume) continues from checkpoint.bin: logs are cut back to the lengths
+// they had at the checkpoint, and the run ends with the same policy.bin and result.toml as an
+// uninterrupted run (wall-clock fields aside).
+//
+// One writer per run folder: the run holds DIR/.lock (io/run_lock.hpp) while it writes; a second
+// run, --resume or --force on a folder whose lock is held stops with an InputError naming the
+// holder, before anything is read or written. SIGTERM / SIGINT (with StopSignals installed,
+// stop_signals.hpp) stop the run after the current iteration with a checkpoint; during the
+// final evaluation they stop it before result.toml is written (the checkpoint holds the whole
+// training, so --resume only evaluates again).
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "codesign/outer_loop.hpp"
+#include "fem/simulator.hpp"
+#include "fem/whisker_model.hpp"
+
+namespace codesign::io {
+class RunLock;
+}
+
+namespace codesign::run {
+
+using namespace coopt;  // the run layer works on the co-design core's types (src/codesign)
+
+struct RunSettings {
+  fem::WhiskerModelSpec spec;
+  fem::SceneConfig scene;
+  fem::SolverConfig solver;
+  LoopConfig loop;
+  std::string config_text;   // the config file's text (copied to config.input.toml)
+};
+
+struct RunOptions {
+  std::string dir;
+  bool resume = false;
+  bool force = false;           // start afresh even if DIR holds an earlier run
+  std::size_t threads = 0;      // rollout and evaluation threads (0: all cores)
+  bool progress = true;         // progress line on stdout
+  // LCM telemetry URL ("" = off): episodes, PPO updates and distribution updates as they
+  // happen, decimated simulation steps of one training environment, and the simulation steps of
+  // the final evaluation's first episodes (docs/telemetry.md).
+  std::string telemetry_url;
+  // With telemetry on: the simulation state at the end of every N-th decision of training
+  // environment 0 is published on CODESIGN_TRAIN_STEP (0: none). Default 2: with 5 simulation
+  // steps per decision, every 10th simulation step of one of the ψ environments.
+  int telemetry_train_every = 2;
+  // Stop (as if killed, after the iteration that reaches it) once t ≥ stop_after; for tests.
+  std::int64_t stop_after = -1;
+  // The lock of DIR, taken by the caller (lock_run_folder) when it writes more into DIR after the
+  // run (frames, figures); null: run_codesign takes it itself for its own duration.
+  const io::RunLock* lock = nullptr;
+};
+
+struct RunResult {
+  bool completed = false;       // false: stopped by stop_after or by a signal
+  int stop_signal = 0;          // SIGTERM or SIGINT if a signal stopped the run (checkpointed)
+  double wall_s = 0.0;
+  std::int64_t timesteps = 0;
+  // Telemetry cost of this session (0 when off): messages published, and the wall time spent
+  // filling, encoding and sending them, summed over threads.
+  std::int64_t telemetry_messages = 0;
+  double telemetry_s = 0.0;
+};
+
+RunResult run_codesign(const RunSettings& settings, const RunOptions& options);
+
+// Takes DIR/.lock (creating DIR), or, with only_if_exists, returns null when DIR is not a folder
+// (a --resume, or a command that writes into a finished run folder: its own checks then say what
+// is missing). Throws InputError if another process holds the lock; says so on stderr when it
+// takes over the lock of a process that was killed.
+std::unique_ptr<io::RunLock> lock_run_folder(const std::string& dir, bool only_if_exists);
+
+// `codesign render --run DIR -o OUT`: the lock of DIR when OUT lies inside DIR (frames written
+// into the run folder), else null: it only reads DIR.
+std::unique_ptr<io::RunLock> lock_run_folder_for_output(const std::string& dir, const std::string& out);
+
+// After a completed run, before drawing its frames and/or figures (the flags say which are
+// still to come): if a signal asked to stop, prints one line saying that the run is complete,
+// what is skipped and the commands that draw it, and returns 128 + signal; otherwise (or with
+// nothing left to skip) returns 0.
+int stop_after_run(const std::string& dir, bool frames_left, bool figures_left);
+
+}  // namespace codesign::run

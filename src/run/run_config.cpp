@@ -1,0 +1,42 @@
+#include "run/run_config.hpp"
+
+#include "io/gym_config.hpp"
+#include "io/mesh_config.hpp"
+#include "run/codesign_tables_reader.hpp"
+
+namespace codesign::run {
+
+RunConfig read_run_config(const std::string& config_path) {
+  io::TableReader root = config_path.empty() ? io::TableReader::from_string("", "(defaults)")
+                                             : io::TableReader::from_file(config_path);
+  return read_run_config(root);
+}
+
+RunConfig read_run_config(io::TableReader& root) {
+  RunConfig s;
+  const io::FemTables fem = io::read_fem_tables(root);
+  s.spec = fem.spec;
+  s.scene = fem.scene;
+  s.solver = fem.solver;
+  s.scenario = io::read_sim_scenario(root);
+  s.task = read_task_config(root);
+  s.codesign = read_codesign_config(root, s.task);
+  s.pid = read_pid_config(root);
+  s.sweep = read_sweep_config(root, s.task);
+  {
+    io::TableReader ppo = root.table("ppo");
+    s.ppo = io::read_ppo_config(ppo, rl::paper_ppo_config());
+    ppo.finish();
+  }
+  {
+    io::TableReader tel = root.table("telemetry");
+    s.telemetry_url = tel.string("url", "");
+    s.telemetry_train_every = static_cast<int>(tel.integer("train_decision_every", 2, 0, 1000000));
+    tel.finish();
+  }
+  s.render = io::read_render_config(root);
+  root.finish();
+  return s;
+}
+
+}  // namespace codesign::run

@@ -1,0 +1,260 @@
+#include "run/run_evaluation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <set>
+#include <sstream>
+
+#include "base/duration_text.hpp"
+#include "base/errors.hpp"
+#include "codesign/evaluation.hpp"
+#include "codesign/outer_loop.hpp"
+#include "codesign/policy_controller.hpp"
+#include "fem/design.hpp"
+#include "io/atomic_file.hpp"
+#include "io/csv_log.hpp"
+#include "io/csv_table.hpp"
+#include "io/gnuplot.hpp"
+#include "io/run_lock.hpp"
+#include "run/checkpoint.hpp"
+#include "run/codesign_tables_writer.hpp"
+
+namespace codesign::run {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kColumns =
+    "design,n,l_mm,w_mm,p1_kPa,p2_kPa,q,score,samples,mean_return,std_return,ci95,band_fraction,episodes,seconds";
+
+std::string num(double v) { return io::CsvLog::num(v); }
+
+std::string row_line(const RunEvaluationRow& r) {
+  const fem::Design d = fem::design_from_index(r.design);
+  std::ostringstream s;
+  s << r.design << ',' << d.n << ',' << num(d.chamber_length_mm) << ',' << num(d.wall_mm) << ',' << num(r.p1_kPa)
+    << ',' << num(r.p2_kPa) << ',' << num(r.q) << ',' << num(r.score) << ',' << r.samples << ','
+    << num(r.mean_return) << ',' << num(r.std_return) << ',' << num(r.ci95) << ',' << num(r.band_fraction) << ','
+    << r.episodes << ',' << num(r.seconds);
+  return s.str();
+}
+
+std::vector<RunEvaluationRow> read_rows(const std::string& path) {
+  const io::CsvTable t = io::read_csv(path);
+  std::vector<RunEvaluationRow> rows;
+  const auto col = [&](const char* name) { return t.column(name); };
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    RunEvaluationRow r;
+    const std::int64_t j = t.integer(i, col("design"));
+    if (j < 0 || j >= fem::kDesignCount)
+      throw InputError(path + ": line " + std::to_string(i + 2) + ", column 'design': " + std::to_string(j) +
+                       " is outside 0.." + std::to_string(fem::kDesignCount - 1));
+    r.design = static_cast<int>(j);
+    r.p1_kPa = t.number(i, col("p1_kPa"));
+    r.p2_kPa = t.number(i, col("p2_kPa"));
+    r.q = t.number(i, col("q"));
+    r.score = t.number(i, col("score"));
+    r.samples = t.integer(i, col("samples"));
+    r.mean_return = t.number(i, col("mean_return"));
+    r.std_return = t.number(i, col("std_return"));
+    r.ci95 = t.number(i, col("ci95"));
+    r.band_fraction = t.number(i, col("band_fraction"));
+    r.episodes = static_cast<int>(t.integer(i, col("episodes")));
+    r.seconds = t.number(i, col("seconds"));
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Draws ranking.png from ranking.dat with plots/evaluate_ranking.gp; "" if drawn, else why not.
+std::string draw_ranking(const fs::path& folder, const std::string& plots_dir, const RunEvaluationSummary& s,
+                         const std::string& at) {
+  if (plots_dir.empty()) return "no plots folder given";
+  const fs::path script = fs::path(plots_dir) / "evaluate_ranking.gp";
+  if (!fs::exists(script)) return script.string() + " not found";
+  io::GnuplotCall call;
+  call.script = script.string();
+  call.set("plotsdir", plots_dir);
+  call.set("datafile", (folder / "ranking.dat").string());
+  call.set("outfile", (folder / "ranking.png").string());
+  call.set("title", "policy at " + at + " (t = " + std::to_string(s.t) + "): designs by test return");
+  const io::GnuplotOutcome r = io::run_gnuplot(call);
+  return r.ok() ? "" : r.message();
+}
+
+}  // namespace
+
+std::string checkpoint_file_of(const std::string& at) {
+  if (at == "final") return "checkpoint.bin";
+  for (const KeptCheckpoint& k : kept_checkpoints(CodesignConfig{}))
+    if (k.name == at) return k.file;
+  throw InputError("--at: '" + at + "' is not one of final, t1, t2");
+}
+
+RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluationOptions& options) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const fs::path dir(options.dir);
+  const std::string file = checkpoint_file_of(options.at);
+  if (options.first_design < 0 || options.last_design >= fem::kDesignCount || options.first_design > options.last_design)
+    throw InputError("--designs: " + std::to_string(options.first_design) + "-" + std::to_string(options.last_design) +
+                     " is not a range A-B with 0 <= A <= B <= " + std::to_string(fem::kDesignCount - 1));
+  const LoopConfig& lc = settings.loop;
+  const int phases = options.phases > 0 ? options.phases : lc.codesign.eval_episodes;
+  if (phases < 2)
+    throw InputError("--phases: " + std::to_string(phases) + " is not in [2, 100000] (the interval needs two episodes)");
+  if (phases > 100000) throw InputError("--phases: " + std::to_string(phases) + " is not in [2, 100000]");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw InputError(dir.string() + ": no such run folder");
+  const fs::path ckpt_path = dir / file;
+  if (!fs::exists(ckpt_path, ec))
+    throw InputError(ckpt_path.string() + ": no such checkpoint" +
+                     (options.at == "final" ? std::string(" (the run has not reached its first checkpoint)")
+                                            : " (the run has not reached " + options.at + " yet, or was started "
+                                              "before runs kept their T1 and T2 checkpoints)"));
+  const std::string resolved = resolved_run_config(settings.spec, settings.scene, settings.solver, lc);
+  const Checkpoint ckpt = load_checkpoint(ckpt_path.string(), fingerprint(resolved));
+
+  // The state: an outer loop restored from the checkpoint (no rollout runs: it only gives the
+  // policy and the distribution as the run held them).
+  auto sims = std::make_shared<SimulatorPool>(settings.spec, settings.scene, settings.solver);
+  OuterLoop loop(lc, std::make_unique<ThreadEnvPool>(sims, lc.task, static_cast<std::size_t>(lc.codesign.designs_per_update),
+                                                     1, lc.ppo.privileged_critic));
+  try {
+    loop.restore(ckpt.loop);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("checkpoint " + ckpt_path.string() + ": " + e.what());
+  }
+  const auto policy = std::make_shared<const rl::Policy>(loop.policy_contents());
+  const DesignDistribution& dist = loop.distribution();
+  const std::int64_t t = loop.timesteps();
+  const Eigen::VectorXd q = dist.probabilities(t);
+
+  RunEvaluationSummary summary;
+  const fs::path folder = dir / "evaluate" / options.at;
+  summary.folder = folder.string();
+  summary.t = t;
+  summary.leading_design = dist.leading_design();
+  {
+    const std::vector<int> rank = dist.ranking();
+    summary.runner_up = rank.size() < 2 ? -1 : (rank[0] == summary.leading_design ? rank[1] : rank[0]);
+  }
+  const io::RunLock lock(folder.string());
+
+  // What this evaluation is; a folder holding another one is continued only if it matches.
+  std::ostringstream stamp;
+  stamp << "# codesign evaluate: the deterministic policy of " << file << " tested on every design of the range\n"
+        << "checkpoint = \"" << file << "\"\n"
+        << "t = " << t << "\n"
+        << "config_fingerprint = \"" << std::hex << ckpt.config_fingerprint << std::dec << "\"\n"
+        << "phases = " << phases << "   # episodes per design, plate phases 2*pi*(k + 1/2)/phases\n"
+        << "designs = [" << options.first_design << ", " << options.last_design << "]\n";
+  const fs::path stamp_path = folder / "evaluate.toml", csv = folder / "designs.csv";
+  std::vector<RunEvaluationRow> done;
+  if (fs::exists(csv, ec)) {
+    if (slurp(stamp_path) == stamp.str() && !options.force) {
+      done = read_rows(csv.string());
+      // Cut a half-written last line so appends start on a fresh line.
+      const std::string text = slurp(csv);
+      fs::resize_file(csv, text.rfind('\n') + 1);
+    } else if (!options.force) {
+      throw InputError(folder.string() + ": holds an evaluation with other settings (" + stamp_path.string() +
+                       "); pass --force to replace it");
+    }
+  }
+  if (done.empty()) {
+    for (const char* f : {"ranking.csv", "ranking.dat", "ranking.png"}) fs::remove(folder / f, ec);
+    io::write_file_atomically(stamp_path.string(), [&](std::ostream& out) { out << stamp.str(); });
+    io::write_file_atomically(csv.string(), [&](std::ostream& out) { out << kColumns << '\n'; });
+  }
+  std::set<int> have;
+  for (const RunEvaluationRow& r : done) have.insert(r.design);
+  summary.designs_before = static_cast<int>(have.size());
+
+  EvaluationOptions eo;
+  eo.episodes = phases;
+  eo.threads = options.threads;
+  eo.trace_first = false;
+  const ControllerFactory controller = policy_factory(policy);
+  const int todo = options.last_design - options.first_design + 1 - static_cast<int>(have.size());
+  std::FILE* f = std::fopen(csv.c_str(), "ab");
+  if (!f) throw InputError(csv.string() + ": cannot open for appending");
+  for (int j = options.first_design; j <= options.last_design; ++j) {
+    if (have.count(j)) continue;
+    const auto t0 = std::chrono::steady_clock::now();
+    const Eigen::Vector2d p = dist.state().collapsed && j == dist.state().best_design
+                                  ? dist.pressures_kPa(dist.state().best_latent, j)
+                                  : dist.mean_pressures_kPa(j);
+    const DesignEvaluation e = evaluate_feedback(controller, sims, lc.task, {j, p[0], p[1], 0.0, 0.0}, eo);
+    RunEvaluationRow r;
+    r.design = j;
+    r.p1_kPa = p[0];
+    r.p2_kPa = p[1];
+    r.q = q[j];
+    r.score = dist.state().score[j];
+    r.samples = dist.state().samples[static_cast<std::size_t>(j)];
+    r.mean_return = e.mean_return;
+    r.std_return = e.std_return;
+    const double n = static_cast<double>(phases);
+    r.ci95 = 1.96 * e.std_return * std::sqrt(n / (n - 1.0)) / std::sqrt(n);
+    r.band_fraction = e.mean_band_fraction;
+    r.episodes = phases;
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::string line = row_line(r) + "\n";
+    if (std::fwrite(line.data(), 1, line.size(), f) != line.size() || std::fflush(f) != 0) {
+      std::fclose(f);
+      throw InputError(csv.string() + ": cannot write (disk full?)");
+    }
+    done.push_back(r);
+    ++summary.designs_run;
+    if (options.progress) {
+      const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+      const double eta = el / summary.designs_run * (todo - summary.designs_run);
+      std::printf("evaluate: %d/%d | ETA %s | %s p=[%.4g, %.4g] kPa: %.2f +- %.2f (q %.4f, R^ %.2f)\n",
+                  summary.designs_run, todo, duration_text(eta).c_str(), fem::design_label(j).c_str(), p[0], p[1],
+                  r.mean_return, r.ci95, r.q, r.score);
+      std::fflush(stdout);
+    }
+  }
+  std::fclose(f);
+
+  // The ranking: by test return, best first (ties: lower design index).
+  summary.ranking = done;
+  std::stable_sort(summary.ranking.begin(), summary.ranking.end(),
+                   [](const RunEvaluationRow& a, const RunEvaluationRow& b) {
+                     return a.mean_return != b.mean_return ? a.mean_return > b.mean_return : a.design < b.design;
+                   });
+  for (std::size_t i = 0; i < summary.ranking.size(); ++i) {
+    RunEvaluationRow& r = summary.ranking[i];
+    r.rank = static_cast<int>(i) + 1;
+    r.role = r.design == summary.leading_design ? "d*" : r.design == summary.runner_up ? "runner_up" : "";
+  }
+  io::write_file_atomically((folder / "ranking.csv").string(), [&](std::ostream& out) {
+    out << "rank," << kColumns << ",role\n";
+    for (const RunEvaluationRow& r : summary.ranking) out << r.rank << ',' << row_line(r) << ',' << r.role << '\n';
+  });
+  // gnuplot's table: rank, mean, ci95, design, role index (0 other, 1 d*, 2 runner-up).
+  io::write_file_atomically((folder / "ranking.dat").string(), [&](std::ostream& out) {
+    out << "# rank mean_return ci95 design role(0 other, 1 d*, 2 runner-up)\n";
+    for (const RunEvaluationRow& r : summary.ranking)
+      out << r.rank << ' ' << num(r.mean_return) << ' ' << num(r.ci95) << ' ' << r.design << ' '
+          << (r.role == "d*" ? 1 : r.role == "runner_up" ? 2 : 0) << '\n';
+  });
+  summary.figure_message = draw_ranking(folder, options.plots_dir, summary, options.at);
+  summary.figure = summary.figure_message.empty();
+  summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  return summary;
+}
+
+}  // namespace codesign::run

@@ -1,0 +1,84 @@
+#pragma once
+// The run folder's result files: result.toml and the evaluation CSVs, with the one writer and
+// the one reader of each (docs/codesign.md, "The run folder"). The run writes result.toml and
+// eval/{best,runner_up}*.csv; `baseline pid` writes eval/<controller>*.csv in its folder;
+// render, figures and refine read result.toml; refine appends its [refined] table.
+// (Issue 19: the run layer, when it lands, owns this module with the rest of the folder.)
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "codesign/evaluation.hpp"
+#include "codesign/force_estimator.hpp"
+#include "codesign/refine.hpp"
+#include "codesign/whisker_env.hpp"
+
+namespace codesign::run {
+
+using namespace coopt;  // the run layer works on the co-design core's types (src/codesign)
+
+// File names of a run folder (the ones more than one module opens).
+namespace run_file {
+inline constexpr const char* kResult = "result.toml";
+inline constexpr const char* kPolicy = "policy.bin";
+inline constexpr const char* kConfig = "config.toml";
+inline constexpr const char* kEvalDir = "eval";
+}  // namespace run_file
+
+// One evaluated design of result.toml: [best] (d* at p*) or [runner_up].
+struct ResultDesign {
+  EpisodeSetup setup;  // design, p1_kPa, p2_kPa (the plate phase is not stored)
+  double test_return = 0.0;      // mean over the test episodes
+  double test_return_std = 0.0;
+  int test_episodes = 0;
+  double band_fraction = 0.0;    // decisions with F inside the band
+};
+ResultDesign result_design(const DesignEvaluation& e);
+
+// [best_fixed_theta]: d* at p* with the base held at its best constant angle.
+struct ResultFixedTheta {
+  double theta0_rad = 0.0;
+  int tuning_phases = 0;
+  double test_return = 0.0, test_return_std = 0.0, band_fraction = 0.0;
+};
+
+// [run]: what produced the result.
+struct ResultRun {
+  std::int64_t timesteps = 0, iterations = 0;
+  std::uint64_t seed = 0;
+  std::string observation;  // task observation name
+  std::string baseline;     // "none" | "single_design"
+  std::int64_t numerical_failures = 0;
+  double wall_s = 0.0;      // wall-clock: the only field that differs between reruns
+};
+
+// The contents of result.toml.
+struct ResultFile {
+  int eval_episodes = 0;  // the test plate phases 2π(k + 1/2)/eval_episodes
+  ResultDesign best;
+  std::optional<ResultDesign> runner_up;
+  std::optional<ResultFixedTheta> fixed_theta;
+  ResultRun run;
+};
+
+// Writes DIR/result.toml atomically.
+void write_result(const std::filesystem::path& run_dir, const ResultFile& r);
+
+// Table `which` ("best" or "runner_up") of DIR/result.toml; nullopt when the file has no such
+// table. A missing or unreadable file, or a key out of range, is an InputError naming the file
+// and the key. Pressures must lie in [0, pressure_max_kPa] (refine passes the run's
+// task.pressure_max_kPa; the default only rules out nonsense).
+std::optional<ResultDesign> read_result_design(const std::filesystem::path& run_dir, const std::string& which,
+                                               double pressure_max_kPa = 1e3);
+
+// Appends (or replaces) the [refined] table of DIR/result.toml, keeping the rest of its text.
+void write_refined_result(const std::filesystem::path& run_dir, const RefineResult& r);
+
+// DIR/<which>.csv (one row per test episode: phase, return, decisions, band fraction, end
+// reason) and DIR/<which>_trace.csv (the first test episode decision by decision: time, θ, F,
+// strain, tip position, plate height, action; with an estimator also F̂(ε, θ) as F_hat_mN).
+// DIR is the run folder's eval/ folder; it is created when missing.
+void write_evaluation(const std::filesystem::path& dir, const std::string& which, const DesignEvaluation& e,
+                      const ForceEstimator* estimator = nullptr);
+
+}  // namespace codesign::run

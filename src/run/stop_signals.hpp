@@ -1,0 +1,30 @@
+#pragma once
+// SIGTERM and SIGINT during a co-design run: the first one asks the run to stop after the
+// iteration it is in (run.cpp checks stop_signal() between iterations, writes the checkpoint
+// --resume reads, and returns); a second one, of either kind, ends the process at once by the
+// signal's default action.
+//
+// The handler stores the signal number in one process-wide flag and puts both signals back to
+// their default action (sigaction is async-signal-safe); it does nothing else. That flag is the
+// one piece of process-global state here, and it has to be: a signal handler cannot reach any
+// object of the run.
+#include <string>
+
+namespace codesign::run {
+
+// Installs the handlers for its lifetime (clearing the flag); the destructor restores the
+// actions that were there before. Only one may exist at a time.
+class StopSignals {
+ public:
+  StopSignals();
+  ~StopSignals();
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+};
+
+// 0, or the signal (SIGTERM, SIGINT) that asked the process to stop.
+int stop_signal();
+// "SIGTERM", "SIGINT", or "signal N".
+std::string signal_name(int signo);
+
+}  // namespace codesign::run
