@@ -16,7 +16,7 @@ namespace codesign::coopt {
 namespace {
 
 namespace fs = std::filesystem;
-using test::slurp;
+using codesign::test_files::slurp;
 
 TEST(DesignSweep, PointsCoverTheGridPerChamberCount) {
   SweepConfig c;
@@ -36,7 +36,7 @@ TEST(DesignSweep, PointsCoverTheGridPerChamberCount) {
 }
 
 TEST(DesignSweep, CsvRowsReadBackExactly) {
-  const fs::path dir = test::fresh_dir("sweep_csv");
+  const fs::path dir = test_files::fresh_dir("sweep_csv");
   fs::create_directories(dir);
   SweepRow a;
   a.point = {63, 1.0 / 3.0, 20.0};
@@ -90,7 +90,7 @@ TEST(DesignSweep, CsvRowsReadBackExactly) {
 TEST(DesignSweep, EstimatePidRowsCarryTheFitAndGetAHeatMap) {
   // The estimate PID through the sweep on a shortened task (10 decisions): its row holds the
   // fit's R² and rms, and its heat-map table is written beside the others.
-  const fs::path dir = test::fresh_dir("sweep_estimate");
+  const fs::path dir = test_files::fresh_dir("sweep_estimate");
   fem::SceneConfig scene;
   scene.settle_steps = 5;
   auto sims = std::make_shared<SimulatorPool>(fem::WhiskerModelSpec{}, scene, fem::SolverConfig{});
@@ -138,7 +138,7 @@ TEST(DesignSweep, ControllerNamesRoundTrip) {
 }
 
 TEST(DesignSweep, RestartSkipsFinishedRowsAndRefusesAnotherConfig) {
-  const fs::path dir = test::fresh_dir("sweep_resume");
+  const fs::path dir = test_files::fresh_dir("sweep_resume");
   fem::SceneConfig scene;
   scene.settle_steps = 5;
   auto sims = std::make_shared<SimulatorPool>(fem::WhiskerModelSpec{}, scene, fem::SolverConfig{});

@@ -20,7 +20,7 @@
 namespace codesign::run {
 namespace {
 
-using test::slurp;
+using codesign::test_files::slurp;
 
 struct RunTables {
   io::FemTables fem;

@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 using namespace codesign;
 using namespace codesign::coopt;
 using namespace codesign::run;
-using codesign::run::test::slurp;
+using codesign::test_files::slurp;
 
 // One finished tiny run shared by the tests (T1 = 40, T2 = 80, 120 decisions).
 const fs::path& finished_run() {

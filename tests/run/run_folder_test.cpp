@@ -16,11 +16,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-using test::slurp;
+using codesign::test_files::slurp;
 
 // A fresh folder that exists (the writers below expect their run folder).
 fs::path fresh_dir(const std::string& name) {
-  const fs::path d = test::fresh_dir("run_folder_" + name);
+  const fs::path d = test_files::fresh_dir("run_folder_" + name);
   fs::create_directories(d);
   return d;
 }

@@ -31,7 +31,7 @@ namespace fs = std::filesystem;
 using namespace codesign;
 using namespace codesign::coopt;
 using namespace codesign::run;
-using codesign::run::test::slurp;
+using codesign::test_files::slurp;
 
 // result.toml without its wall-clock line.
 std::string result_without_wall(const fs::path& dir) {
@@ -51,7 +51,7 @@ RunOptions opts(const fs::path& dir) {
 }
 
 TEST(Run, WritesTheRunFolder) {
-  const fs::path d = test::fresh_dir("run_folder");
+  const fs::path d = test_files::fresh_dir("run_folder");
   const RunResult r = run_codesign(test::tiny_run(), opts(d));
   EXPECT_TRUE(r.completed);
   for (const char* f : {"config.toml", "config.input.toml", "episodes.csv", "ppo.csv", "distribution.csv", "q_disc.csv", "sampled.csv",
@@ -91,7 +91,7 @@ TEST(Run, WritesTheRunFolder) {
 }
 
 TEST(Run, ResumedRunEndsIdentically) {
-  const fs::path a = test::fresh_dir("run_whole"), b = test::fresh_dir("run_resumed");
+  const fs::path a = test_files::fresh_dir("run_whole"), b = test_files::fresh_dir("run_resumed");
   ASSERT_TRUE(run_codesign(test::tiny_run(), opts(a)).completed);
   RunOptions o = opts(b);
   o.stop_after = 60;  // between checkpoints (every 20): the logs hold rows past the checkpoint
@@ -108,14 +108,14 @@ TEST(Run, ResumedRunEndsIdentically) {
 // The states after the iterations that reach T1 and T2 are kept beside checkpoint.bin, each the
 // same state as the checkpoint of a run stopped there; a fresh run removes an earlier run's.
 TEST(Run, KeepsTheCheckpointsAtT1AndT2) {
-  const fs::path a = test::fresh_dir("run_kept");
+  const fs::path a = test_files::fresh_dir("run_kept");
   ASSERT_TRUE(run_codesign(test::tiny_run(), opts(a)).completed);
   const std::uint64_t fp = fingerprint(slurp(a / "config.toml"));
   const std::vector<KeptCheckpoint> kept = kept_checkpoints(test::tiny_run().loop.codesign);
   ASSERT_EQ(kept.size(), 2u);
   for (const KeptCheckpoint& kc : kept) {
     SCOPED_TRACE(kc.file);
-    const fs::path b = test::fresh_dir("run_kept_stop_" + kc.name);
+    const fs::path b = test_files::fresh_dir("run_kept_stop_" + kc.name);
     RunOptions o = opts(b);
     o.stop_after = kc.t;
     ASSERT_FALSE(run_codesign(test::tiny_run(), o).completed);
@@ -146,7 +146,7 @@ TEST(Run, ResumedRunWithHistoryAndObservationNormalisationEndsIdentically) {
   s.loop.task.history = 4;
   s.loop.ppo.normalize_observations = true;
   s.config_text += "# history 4, normalised observations\n";
-  const fs::path a = test::fresh_dir("run_norm_whole"), b = test::fresh_dir("run_norm_resumed");
+  const fs::path a = test_files::fresh_dir("run_norm_whole"), b = test_files::fresh_dir("run_norm_resumed");
   ASSERT_TRUE(run_codesign(s, opts(a)).completed);
   RunOptions o = opts(b);
   o.stop_after = 60;
@@ -173,7 +173,7 @@ TEST(Run, EntropyScheduleLogsItsTargetAndResumesIdentically) {
   s.loop.codesign.distribution.beta_schedule = BetaSchedule::Entropy;
   s.loop.codesign.distribution.entropy_end = 2.0;
   s.config_text += "# entropy schedule\n";
-  const fs::path a = test::fresh_dir("run_entropy_whole"), b = test::fresh_dir("run_entropy_resumed");
+  const fs::path a = test_files::fresh_dir("run_entropy_whole"), b = test_files::fresh_dir("run_entropy_resumed");
   ASSERT_TRUE(run_codesign(s, opts(a)).completed);
   RunOptions o = opts(b);
   o.stop_after = 60;
@@ -219,7 +219,7 @@ TEST(Run, ResumedRecurrentRunEndsIdenticallyAndItsPolicyFileReproducesTheEvaluat
   s.loop.ppo.gru_hidden = 8;
   s.loop.ppo.normalize_observations = true;
   s.config_text += "# recurrent policy\n";
-  const fs::path a = test::fresh_dir("run_gru_whole"), b = test::fresh_dir("run_gru_resumed");
+  const fs::path a = test_files::fresh_dir("run_gru_whole"), b = test_files::fresh_dir("run_gru_resumed");
   ASSERT_TRUE(run_codesign(s, opts(a)).completed);
   EXPECT_EQ(slurp(a / "checkpoint.bin")[8], 3);
   EXPECT_EQ(slurp(a / "policy.bin")[8], 3);
@@ -251,7 +251,7 @@ TEST(Run, ResumedRecurrentRunEndsIdenticallyAndItsPolicyFileReproducesTheEvaluat
 }
 
 TEST(Run, RefusesToOverwriteAnEarlierRun) {
-  const fs::path d = test::fresh_dir("run_refuse");
+  const fs::path d = test_files::fresh_dir("run_refuse");
   RunOptions o = opts(d);
   o.stop_after = 20;
   run_codesign(test::tiny_run(), o);
@@ -262,7 +262,7 @@ TEST(Run, RefusesToOverwriteAnEarlierRun) {
 }
 
 TEST(Run, MismatchedOrDamagedCheckpointIsAClearErrorAndChangesNothing) {
-  const fs::path d = test::fresh_dir("run_damaged");
+  const fs::path d = test_files::fresh_dir("run_damaged");
   RunOptions o = opts(d);
   o.stop_after = 40;
   run_codesign(test::tiny_run(), o);
@@ -297,7 +297,7 @@ TEST(Run, MismatchedOrDamagedCheckpointIsAClearErrorAndChangesNothing) {
 namespace {
 
 TEST(Run, TelemetryLogHoldsEveryChannelAndChangesNothing) {
-  const fs::path plain = test::fresh_dir("run_tel_off"), logged = test::fresh_dir("run_tel_on");
+  const fs::path plain = test_files::fresh_dir("run_tel_off"), logged = test_files::fresh_dir("run_tel_on");
   ASSERT_TRUE(run_codesign(test::tiny_run(), opts(plain)).completed);
   RunOptions o = opts(logged);
   fs::create_directories(logged);
@@ -374,7 +374,7 @@ TEST(Run, RecurrentRunPublishesItsMemory) {
   s.loop.codesign.total_timesteps = 40;  // 2 iterations of 4 x 5
   s.loop.codesign.distribution.exploration_end = 20;
   s.loop.codesign.distribution.exploitation_start = 30;
-  const fs::path d = test::fresh_dir("run_tel_gru");
+  const fs::path d = test_files::fresh_dir("run_tel_gru");
   fs::create_directories(d);
   const fs::path log = d / "telemetry.lcm";
   RunOptions o = opts(d);

@@ -1,5 +1,6 @@
 #pragma once
-// Files for the co-design tests: a fresh folder under the test temp dir and a file's bytes.
+// Files for the tests of several folders (tests/codesign, tests/run): a fresh folder under the test
+// temp dir and a file's bytes. tests/support/ is on every test executable's include path.
 #include <unistd.h>
 
 #include <filesystem>
@@ -9,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-namespace codesign::run::test {
+namespace codesign::test_files {
 
 // TempDir()/codesign_<name>_<pid>, removed if it exists and not created (a run refuses to start
 // over an existing folder). The process id keeps concurrent test runs (other build trees on the
@@ -29,4 +30,4 @@ inline std::string slurp(const std::filesystem::path& p) {
   return s.str();
 }
 
-}  // namespace codesign::run::test
+}  // namespace codesign::test_files
