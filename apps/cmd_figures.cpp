@@ -13,8 +13,6 @@
 
 #include "base/errors.hpp"
 #include "run/figures.hpp"
-#include "run/run.hpp"
-#include "io/run_lock.hpp"
 #include "commands.hpp"
 
 #ifndef CODESIGN_PLOTS_DIR
@@ -51,53 +49,7 @@ run::FigureOptions to_options(const FiguresCliOptions& c) {
   return o;
 }
 
-int figures_main(const FiguresCliOptions& c) {
-  // It writes RUN/figures/: not while a run writes the folder (draw_run_figures runs under the run's lock).
-  const std::unique_ptr<io::RunLock> lock = run::lock_run_folder(c.run, /*only_if_exists=*/true);
-  const run::FiguresReport report = run::make_figures(to_options(c));
-  int failed = 0;
-  for (const run::FigureOutcome& f : report.figures) {
-    if (f.drawn) {
-      std::printf("figures: %s\n", f.png.c_str());
-    } else {
-      std::printf("figures: %s not drawn: %s\n", f.name.c_str(), f.message.c_str());
-      // A figure the data does not allow yet (no evaluation, d* never sampled) is not a failure.
-      if (report.gnuplot_missing || f.message.rfind("gnuplot", 0) == 0) ++failed;
-    }
-  }
-  std::printf("figures: %zu of %zu drawn; data in %s/figures/data/\n", report.drawn(), report.figures.size(),
-              c.run.c_str());
-  return failed == 0 ? 0 : 1;
-}
-
 }  // namespace
-
-bool draw_run_figures(const std::string& run_dir) {
-  try {
-    run::FigureOptions o;
-    o.run_dir = run_dir;
-    o.plots_dir = CODESIGN_PLOTS_DIR;
-    const run::FiguresReport report = run::make_figures(o);
-    if (report.gnuplot_missing) {
-      std::fprintf(stderr,
-                   "codesign: warning: figures not drawn: gnuplot not found (install gnuplot-nox); "
-                   "data in %s/figures/data/\n",
-                   run_dir.c_str());
-      return false;
-    }
-    std::string problems;
-    for (const run::FigureOutcome& f : report.figures)
-      if (!f.drawn) problems += (problems.empty() ? "" : "; ") + f.name + ": " + f.message;
-    if (!problems.empty()) {
-      std::fprintf(stderr, "codesign: warning: figures: %s\n", problems.c_str());
-    }
-    std::printf("codesign: figures: %zu PNGs in %s/figures/\n", report.drawn(), run_dir.c_str());
-    return problems.empty();
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "codesign: warning: figures not drawn: %s\n", e.what());
-    return false;
-  }
-}
 
 void add_figures_command(CLI::App& root, Runner& run) {
   auto opt = std::make_shared<FiguresCliOptions>();
@@ -110,7 +62,7 @@ void add_figures_command(CLI::App& root, Runner& run) {
       ->check(CLI::Range(1, 100000));
   cmd->add_option("--bins", opt->bins, "histogram bins of Fig. 2c")->check(CLI::Range(1, 100000));
   cmd->add_option("--gnuplot", opt->gnuplot, "gnuplot executable (name on PATH or path)");
-  cmd->callback([opt, &run] { run = [opt] { return figures_main(*opt); }; });
+  cmd->callback([opt, &run] { run = [opt] { return run::figures_of_run(to_options(*opt)); }; });
 }
 
 }  // namespace codesign::app

@@ -20,10 +20,6 @@ void add_sim_command(CLI::App& root, Runner& run);        // cmd_sim.cpp
 void add_train_gym_command(CLI::App& root, Runner& run);  // cmd_train_gym.cpp
 void add_figures_command(CLI::App& root, Runner& run);    // cmd_figures.cpp
 void add_render_command(CLI::App& root, Runner& run);     // cmd_render.cpp
-// The figures of a finished run into RUN/figures/ (cmd_figures.cpp), called at the end of
-// `codesign run`: never throws; a missing gnuplot or a failing script is one warning line on
-// stderr. Returns true if every figure was drawn.
-bool draw_run_figures(const std::string& run_dir);
 void add_check_command(CLI::App& root, Runner& run);      // cmd_check.cpp
 void add_baseline_command(CLI::App& root, Runner& run);   // cmd_baseline.cpp (`baseline pid`)
 void add_sweep_command(CLI::App& root, Runner& run);      // cmd_sweep.cpp

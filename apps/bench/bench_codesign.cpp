@@ -30,13 +30,13 @@ struct BenchCodesignOptions {
 
 int run_bench_codesign(const BenchCodesignOptions& o) {
   const run::RunConfig setup = run::read_run_config(o.config);
-  coopt::LoopConfig lc{setup.task, setup.codesign, setup.ppo};
-  auto sims = std::make_shared<coopt::SimulatorPool>(setup.spec, setup.scene, setup.solver);
-  auto envs = std::make_unique<coopt::ThreadEnvPool>(sims, lc.task, static_cast<std::size_t>(lc.codesign.designs_per_update),
+  core::LoopConfig lc{setup.task, setup.codesign, setup.ppo};
+  auto sims = std::make_shared<core::SimulatorPool>(setup.spec, setup.scene, setup.solver);
+  auto envs = std::make_unique<core::ThreadEnvPool>(sims, lc.task, static_cast<std::size_t>(lc.codesign.designs_per_update),
                                                      static_cast<std::size_t>(o.threads), lc.ppo.privileged_critic);
   const std::size_t threads = envs->threads();
-  coopt::EnvPool* pool = envs.get();
-  coopt::OuterLoop loop(lc, std::move(envs));
+  core::EnvPool* pool = envs.get();
+  core::OuterLoop loop(lc, std::move(envs));
   const int psi = lc.codesign.designs_per_update;
   const int n_steps = lc.ppo.n_steps;
   std::printf("bench codesign: %s: psi = %d environments x %d decisions x %d steps, actor %zu layers, %zu threads\n",
@@ -52,13 +52,13 @@ int run_bench_codesign(const BenchCodesignOptions& o) {
   std::int64_t episodes = 0;
   const auto t0 = std::chrono::steady_clock::now();
   for (int k = 0; k < o.iterations; ++k) {
-    const coopt::IterationReport r = loop.iterate();
+    const core::IterationReport r = loop.iterate();
     collect += r.collect_s;
     update += r.update_s;
     dist += r.distribution_s;
     policy += r.policy_s;
     decisions += static_cast<std::int64_t>(psi) * n_steps;
-    for (const coopt::EpisodeRecord& e : r.episodes) sim_steps += static_cast<std::int64_t>(e.decisions) * lc.task.action_hold_steps;
+    for (const core::EpisodeRecord& e : r.episodes) sim_steps += static_cast<std::int64_t>(e.decisions) * lc.task.action_hold_steps;
     episodes += static_cast<std::int64_t>(r.episodes.size());
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

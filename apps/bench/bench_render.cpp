@@ -80,9 +80,9 @@ int run_bench_render(const BenchRenderOptions& o) {
   rc.width = o.width;
   rc.height = o.height;
   rc.validate("command line");
-  auto sims = std::make_shared<coopt::SimulatorPool>(setup.spec, setup.scene, setup.solver);
+  auto sims = std::make_shared<core::SimulatorPool>(setup.spec, setup.scene, setup.solver);
   const io::SimScenario& sc = setup.scenario;
-  coopt::EpisodeSetup es{sc.design, sc.pressures_kPa[0], sc.pressures_kPa[1], 0.0, 0.0};
+  core::EpisodeSetup es{sc.design, sc.pressures_kPa[0], sc.pressures_kPa[1], 0.0, 0.0};
   std::vector<run::RecordedFrame> frames =
       run::record_episode(sims, setup.task, es, nullptr, 1, run::design_title(es.design, es.p1_kPa, es.p2_kPa));
   if (static_cast<int>(frames.size()) > o.frames) frames.resize(static_cast<std::size_t>(o.frames));

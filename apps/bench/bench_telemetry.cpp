@@ -60,12 +60,7 @@ int run_bench_telemetry(const BenchTelemetryOptions& o) {
   std::ifstream in(o.config, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
-  run::RunSettings s;
-  s.spec = setup.spec;
-  s.scene = setup.scene;
-  s.solver = setup.solver;
-  s.loop = {setup.task, setup.codesign, setup.ppo};
-  s.config_text = text.str();
+  const run::RunSettings s = run::run_settings(setup, text.str());
   const std::int64_t per_iteration =
       static_cast<std::int64_t>(setup.codesign.designs_per_update) * setup.ppo.n_steps;
   const std::int64_t stop = per_iteration * o.iterations;

@@ -6,6 +6,7 @@
 // key with its allowed values). An enum's strings appear in its table and nowhere else.
 #include <array>
 #include <optional>
+#include <string>
 #include <string_view>
 
 namespace codesign {
@@ -40,6 +41,14 @@ template <class E, std::size_t N>
 constexpr std::array<std::string_view, N> names_in(const EnumNames<E, N>& names) {
   std::array<std::string_view, N> out{};
   for (std::size_t i = 0; i < N; ++i) out[i] = names[i].name;
+  return out;
+}
+
+// "a, b, c": the names in table order, for a message listing the allowed values.
+template <class E, std::size_t N>
+std::string names_list(const EnumNames<E, N>& names) {
+  std::string out;
+  for (const EnumName<E>& n : names) out += (out.empty() ? "" : ", ") + std::string(n.name);
   return out;
 }
 

@@ -8,7 +8,7 @@
 #include "base/enum_names.hpp"
 #include "codesign/distribution_config.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 enum class Baseline { None, SingleDesign };
 inline constexpr EnumNames<Baseline, 2> kBaselineNames{{{Baseline::None, "none"}, {Baseline::SingleDesign, "single_design"}}};
@@ -40,4 +40,4 @@ struct CodesignConfig {
   std::uint64_t seed = 1;
 };
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

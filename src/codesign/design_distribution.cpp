@@ -12,7 +12,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
-namespace codesign::coopt {
+namespace codesign::core {
 namespace {
 
 // Below this population std of a design's reward buffer the advantage is taken as 0 (no
@@ -46,15 +46,6 @@ std::string str(const T& value) {
 bool finite(const Eigen::Ref<const Eigen::MatrixXd>& m) { return m.allFinite(); }
 
 }  // namespace
-
-const char* to_string(Phase phase) {
-  switch (phase) {
-    case Phase::Exploration: return "exploration";
-    case Phase::Transition: return "transition";
-    case Phase::Exploitation: return "exploitation";
-  }
-  return "unknown";
-}
 
 void DistributionConfig::validate() const {
   if (exploration_end < 0) bad_field("exploration_end", str(exploration_end), "[0, inf)");
@@ -411,4 +402,4 @@ void DesignDistribution::condition_sigma(int design) {
   s = 0.5 * (s + s.transpose()).eval();
 }
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

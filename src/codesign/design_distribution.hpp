@@ -17,13 +17,16 @@
 
 #include <Eigen/Core>
 
+#include "base/enum_names.hpp"
 #include "codesign/distribution_config.hpp"
 #include "rl/rng.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 enum class Phase { Exploration, Transition, Exploitation };
-const char* to_string(Phase phase);  // "exploration", "transition", "exploitation"
+inline constexpr EnumNames<Phase, 3> kPhaseNames{
+    {{Phase::Exploration, "exploration"}, {Phase::Transition, "transition"}, {Phase::Exploitation, "exploitation"}}};
+inline const char* to_string(Phase phase) { return name_of(kPhaseNames, phase).data(); }
 
 
 struct DesignSample {
@@ -132,4 +135,4 @@ class DesignDistribution {
   DistributionState state_;
 };
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

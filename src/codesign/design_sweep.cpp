@@ -22,7 +22,7 @@
 #include "io/csv_log.hpp"
 #include "rl/thread_pool.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 namespace {
 
@@ -136,16 +136,6 @@ FixedThetaTuning tune_fixed_theta(const std::shared_ptr<SimulatorPool>& sims, co
 
 namespace {
 
-// The one table of controller names.
-struct ControllerName {
-  SweepController controller;
-  const char* name;
-};
-constexpr ControllerName kControllerNames[] = {{SweepController::FixedTheta, "fixed_theta"},
-                                               {SweepController::PidForce, "pid_force"},
-                                               {SweepController::PidStrain, "pid_strain"},
-                                               {SweepController::PidEstimate, "pid_estimate"}};
-
 PidSignal signal_of(SweepController c) {
   return c == SweepController::PidForce ? PidSignal::Force
          : c == SweepController::PidStrain ? PidSignal::Strain
@@ -154,19 +144,9 @@ PidSignal signal_of(SweepController c) {
 
 }  // namespace
 
-const char* to_string(SweepController c) {
-  for (const ControllerName& n : kControllerNames)
-    if (n.controller == c) return n.name;
-  return "?";
-}
-
 SweepController sweep_controller_from_name(const std::string& name) {
-  std::string allowed;
-  for (const ControllerName& n : kControllerNames) {
-    if (name == n.name) return n.controller;
-    allowed += (allowed.empty() ? "" : ", ") + std::string(n.name);
-  }
-  throw std::invalid_argument("unknown sweep controller '" + name + "'; allowed: " + allowed);
+  if (const std::optional<SweepController> c = value_of(kSweepControllerNames, name)) return *c;
+  throw std::invalid_argument("unknown sweep controller '" + name + "'; allowed: " + names_list(kSweepControllerNames));
 }
 
 void SweepConfig::validate() const {
@@ -429,4 +409,4 @@ SweepSummary run_sweep(const std::shared_ptr<SimulatorPool>& sims, const TaskCon
   return summary;
 }
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

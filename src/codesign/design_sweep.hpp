@@ -17,10 +17,11 @@
 #include <string>
 #include <vector>
 
+#include "base/enum_names.hpp"
 #include "codesign/evaluation.hpp"
 #include "codesign/pid_tuning.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 // The best constant base angle found with NLopt: a coarse scan of `scan_points` angles on
 // [−0.95, 0.95]·theta_limit (odd counts include θ0 = 0), then a bounded local search (COBYLA,
@@ -43,7 +44,11 @@ FixedThetaTuning tune_fixed_theta(const std::shared_ptr<SimulatorPool>& sims, co
                                   int test_episodes, std::size_t threads = 1);
 
 enum class SweepController { FixedTheta, PidForce, PidStrain, PidEstimate };
-const char* to_string(SweepController c);  // "fixed_theta", "pid_force", "pid_strain", "pid_estimate"
+inline constexpr EnumNames<SweepController, 4> kSweepControllerNames{{{SweepController::FixedTheta, "fixed_theta"},
+                                                                     {SweepController::PidForce, "pid_force"},
+                                                                     {SweepController::PidStrain, "pid_strain"},
+                                                                     {SweepController::PidEstimate, "pid_estimate"}}};
+inline const char* to_string(SweepController c) { return name_of(kSweepControllerNames, c).data(); }
 SweepController sweep_controller_from_name(const std::string& name);  // else std::invalid_argument
 
 // [sweep] of a config.
@@ -103,4 +108,4 @@ std::string sweep_csv_header_without_fit();  // the previous version's header
 std::string sweep_csv_line(const SweepRow& r);
 std::vector<SweepRow> read_sweep_csv(const std::string& path);  // complete lines only
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

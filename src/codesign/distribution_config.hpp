@@ -6,7 +6,7 @@
 
 #include "base/enum_names.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 // How β(t) of q_disc = softmax(β R̂) is set from T1 on (docs/codesign.md, "Phases and β"):
 //   Ramp     the paper's: linear from beta_start at T1 to beta_end at T2, beta_end after.
@@ -47,4 +47,4 @@ struct DistributionConfig {
   void validate() const;
 };
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 ThreadEnvPool::ThreadEnvPool(std::shared_ptr<SimulatorPool> sims, const TaskConfig& task, std::size_t n_envs,
                              std::size_t n_threads, bool privileged)
@@ -79,4 +79,4 @@ double ThreadEnvPool::step_seconds() const {
   return s;
 }
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -21,7 +21,7 @@
 #include "rl/thread_pool.hpp"
 #include "rl/vec_env.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 class EnvPool {
  public:
@@ -81,4 +81,4 @@ class ThreadEnvPool final : public EnvPool {
   std::vector<Observer> observers_;  // one per environment
 };
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -10,7 +10,7 @@
 #include "codesign/evaluation.hpp"
 #include "rl/thread_pool.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 namespace {
 
@@ -92,4 +92,4 @@ EstimatorCalibration calibrate_force_estimator(const std::shared_ptr<SimulatorPo
   return out;
 }
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -33,7 +33,7 @@
 #include "codesign/task_config.hpp"
 #include "codesign/whisker_env.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 struct EstimatorCalibration {
   ForceFit fit;
@@ -52,4 +52,4 @@ EstimatorCalibration calibrate_force_estimator(const std::shared_ptr<SimulatorPo
                                                const EpisodeSetup& setup, int episodes, int tuning_phases,
                                                std::size_t threads = 1);
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

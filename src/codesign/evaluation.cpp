@@ -7,7 +7,7 @@
 
 #include "rl/thread_pool.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 double evaluation_phase(int k, int n, double offset) { return 2.0 * std::numbers::pi * (k + offset) / n; }
 
@@ -114,4 +114,4 @@ FixedThetaResult best_fixed_theta(const std::shared_ptr<SimulatorPool>& sims, co
   return best;
 }
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -20,7 +20,7 @@
 #include "codesign/whisker_env.hpp"
 #include "fem/sensors.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 // Observation -> action (before clipping).
 using Controller = std::function<double(const Eigen::VectorXd& obs)>;
@@ -77,4 +77,4 @@ FixedThetaResult best_fixed_theta(const std::shared_ptr<SimulatorPool>& sims, co
                                   EpisodeSetup setup, int phases, std::size_t threads, int scan_points = 13,
                                   double tolerance_rad = 1e-3, double phase_offset = 0.5);
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -2,7 +2,7 @@
 
 #include <fstream>
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 std::int64_t count_numerical_failures(const std::string& episodes_csv) {
   std::ifstream in(episodes_csv, std::ios::binary);
@@ -20,4 +20,4 @@ std::int64_t count_numerical_failures(const std::string& episodes_csv) {
   return n;
 }
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

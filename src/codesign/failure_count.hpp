@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 inline bool is_numerical_failure(std::string_view reason) { return reason.starts_with("numerical:"); }
 
@@ -14,4 +14,4 @@ inline bool is_numerical_failure(std::string_view reason) { return reason.starts
 // numerical failure; 0 if the file does not exist.
 std::int64_t count_numerical_failures(const std::string& episodes_csv);
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 namespace {
 
@@ -65,4 +65,4 @@ ForceFit fit_force_estimator(const std::vector<ForceSample>& samples) {
   return out;
 }
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -9,7 +9,7 @@
 // (= rms of the ε residual / |c1|). Where the samples come from: estimator_calibration.hpp.
 #include <vector>
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 struct ForceSample {
   double strain = 0.0;    // ε
@@ -39,4 +39,4 @@ struct ForceFit {
 // zero (ε does not see F, so F̂ would be undefined).
 ForceFit fit_force_estimator(const std::vector<ForceSample>& samples);
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

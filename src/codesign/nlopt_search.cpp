@@ -7,7 +7,7 @@
 
 #include <nlopt.hpp>
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 namespace {
 
@@ -71,20 +71,9 @@ double nlopt_objective(unsigned n, const double* z, double* grad, void* data) {
 
 }  // namespace
 
-const char* to_string(LocalMethod m) {
-  switch (m) {
-    case LocalMethod::Bobyqa: return "bobyqa";
-    case LocalMethod::Cobyla: return "cobyla";
-    case LocalMethod::NelderMead: return "neldermead";
-    case LocalMethod::Sbplx: return "sbplx";
-  }
-  return "?";
-}
-
 LocalMethod local_method_from_name(const std::string& name) {
-  for (LocalMethod m : {LocalMethod::Bobyqa, LocalMethod::Cobyla, LocalMethod::NelderMead, LocalMethod::Sbplx})
-    if (name == to_string(m)) return m;
-  throw std::invalid_argument("unknown local search method '" + name + "'; allowed: bobyqa, cobyla, neldermead, sbplx");
+  if (const std::optional<LocalMethod> m = value_of(kLocalMethodNames, name)) return *m;
+  throw std::invalid_argument("unknown local search method '" + name + "'; allowed: " + names_list(kLocalMethodNames));
 }
 
 void SearchBox::validate() const {
@@ -210,4 +199,4 @@ SearchResult maximise(const Objective& f, const SearchBox& box, const SearchOpti
   return out;
 }
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -17,12 +17,18 @@
 #include <string>
 #include <vector>
 
-namespace codesign::coopt {
+#include "base/enum_names.hpp"
+
+namespace codesign::core {
 
 enum class LocalMethod { Bobyqa, Cobyla, NelderMead, Sbplx };
+inline constexpr EnumNames<LocalMethod, 4> kLocalMethodNames{{{LocalMethod::Bobyqa, "bobyqa"},
+                                                              {LocalMethod::Cobyla, "cobyla"},
+                                                              {LocalMethod::NelderMead, "neldermead"},
+                                                              {LocalMethod::Sbplx, "sbplx"}}};
 
-const char* to_string(LocalMethod m);
-// "bobyqa", "cobyla", "neldermead", "sbplx"; anything else throws std::invalid_argument.
+inline const char* to_string(LocalMethod m) { return name_of(kLocalMethodNames, m).data(); }
+// A name of kLocalMethodNames; anything else throws std::invalid_argument listing them.
 LocalMethod local_method_from_name(const std::string& name);
 
 struct SearchBox {
@@ -58,4 +64,4 @@ using Objective = std::function<double(const std::vector<double>& x)>;
 SearchResult maximise(const Objective& f, const SearchBox& box, const SearchOptions& options,
                       const std::optional<std::vector<double>>& x0 = std::nullopt);
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

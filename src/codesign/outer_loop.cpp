@@ -11,7 +11,7 @@
 #include "rl/recurrent_ppo.hpp"
 #include "rl/rollout.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 namespace {
 
@@ -286,4 +286,4 @@ void OuterLoop::restore(const LoopState& s) {
   t_ = s.t;
 }
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -14,7 +14,7 @@
 //   4. the return of each environment's first episode, R_{d_i}, feeds Algorithm 2;
 //   5. t += ψ · n_steps, k += 1.
 // The run ends when t ≥ total_timesteps. Everything that defines the future of the loop is in
-// LoopState (run/checkpoint.hpp writes it): restoring it and iterating gives bit-identical results.
+// LoopState (a checkpoint holds it): restoring it and iterating gives bit-identical results.
 //
 // Random streams, all split from Rng(seed) in this order: network init, action sampling,
 // minibatch shuffling, design sampling (designs and plate phases).
@@ -40,7 +40,7 @@
 #include "rl/rng.hpp"
 #include "rl/rollout_buffer.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 struct LoopConfig {
   TaskConfig task;
@@ -80,7 +80,7 @@ struct IterationReport {
   double policy_s = 0.0;           // part of collect_s spent in the policy (act/value)
 };
 
-// Everything that defines the loop's future (see run/checkpoint.hpp).
+// Everything that defines the loop's future (what a checkpoint must hold).
 struct LoopState {
   int k = 0;
   std::int64_t t = 0;
@@ -152,4 +152,4 @@ class OuterLoop {
   MemoryObserver memory_observer_;
 };
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 void PidGains::validate() const {
   const char* names[] = {"kp", "ki", "kd"};
@@ -37,31 +37,9 @@ double PidController::act(double e) {
   return std::clamp(u_out, -1.0, 1.0);
 }
 
-namespace {
-
-// The one table of signal names.
-struct SignalName {
-  PidSignal signal;
-  const char* name;
-};
-constexpr SignalName kSignalNames[] = {
-    {PidSignal::Force, "force"}, {PidSignal::Strain, "strain"}, {PidSignal::Estimate, "estimate"}};
-
-}  // namespace
-
-const char* to_string(PidSignal s) {
-  for (const SignalName& n : kSignalNames)
-    if (n.signal == s) return n.name;
-  return "?";
-}
-
 PidSignal pid_signal_from_name(const std::string& name) {
-  std::string allowed;
-  for (const SignalName& n : kSignalNames) {
-    if (name == n.name) return n.signal;
-    allowed += (allowed.empty() ? "" : ", ") + std::string(n.name);
-  }
-  throw std::invalid_argument("unknown PID signal '" + name + "'; allowed: " + allowed);
+  if (const std::optional<PidSignal> s = value_of(kPidSignalNames, name)) return *s;
+  throw std::invalid_argument("unknown PID signal '" + name + "'; allowed: " + names_list(kPidSignalNames));
 }
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

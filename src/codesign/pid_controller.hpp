@@ -25,7 +25,9 @@
 // target) asks for a positive action, and the gains are non-negative.
 #include <string>
 
-namespace codesign::coopt {
+#include "base/enum_names.hpp"
+
+namespace codesign::core {
 
 struct PidGains {
   bool operator==(const PidGains&) const = default;
@@ -53,7 +55,9 @@ class PidController {
 };
 
 enum class PidSignal { Force, Strain, Estimate };
-const char* to_string(PidSignal s);  // "force", "strain", "estimate"
+inline constexpr EnumNames<PidSignal, 3> kPidSignalNames{
+    {{PidSignal::Force, "force"}, {PidSignal::Strain, "strain"}, {PidSignal::Estimate, "estimate"}}};
+inline const char* to_string(PidSignal s) { return name_of(kPidSignalNames, s).data(); }
 PidSignal pid_signal_from_name(const std::string& name);  // one of to_string's names, else invalid_argument
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 namespace {
 
@@ -141,4 +141,4 @@ PidTuningResult tune_whisker_pid(const std::shared_ptr<SimulatorPool>& sims, con
   return out;
 }
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

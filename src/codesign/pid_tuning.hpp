@@ -29,7 +29,7 @@
 #include "codesign/nlopt_search.hpp"
 #include "codesign/pid_controller.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 struct PidBox {
   std::array<double, 2> kp{0.0, 0.5}, ki{0.0, 0.2}, kd{0.0, 0.5};
@@ -97,4 +97,4 @@ PidTuningResult tune_whisker_pid(const std::shared_ptr<SimulatorPool>& sims, con
                                  const EpisodeSetup& setup, PidSignal signal, const PidTuningConfig& config,
                                  std::size_t threads = 1);
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -6,7 +6,7 @@
 #include "base/errors.hpp"
 #include "codesign/whisker_env.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 std::shared_ptr<const rl::Policy> load_task_policy(const std::filesystem::path& policy_file, const TaskConfig& task) {
   auto policy = std::make_shared<const rl::Policy>(rl::Policy::load(policy_file));
@@ -36,4 +36,4 @@ ControllerFactory policy_factory(std::shared_ptr<const rl::Policy> policy) {
   };
 }
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -11,7 +11,7 @@
 #include "codesign/task_config.hpp"
 #include "rl/policy_file.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 // A policy file (rl::Policy) for the task: the one check that a policy fits the task's
 // observation (its size, with the history) and its one action; InputError naming the file and
@@ -25,4 +25,4 @@ Controller episode_controller(std::shared_ptr<const rl::Policy> policy);
 // its observation).
 ControllerFactory policy_factory(std::shared_ptr<const rl::Policy> policy);
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -7,7 +7,7 @@
 #include "fem/design.hpp"
 #include "io/csv_log.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 namespace {
 
@@ -108,4 +108,4 @@ std::string with_refined_table(const std::string& text, const RefineResult& r) {
   return base + o.str();
 }
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -15,7 +15,7 @@
 #include "codesign/evaluation.hpp"
 #include "codesign/nlopt_search.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 struct RefineConfig {
   int tuning_phases = 4;
@@ -45,6 +45,5 @@ RefineResult refine_pressures(const Controller& policy, const std::shared_ptr<Si
 // result.toml's text with the [refined] table of `r` appended (an earlier [refined] table is
 // removed; all other bytes are kept as they are).
 std::string with_refined_table(const std::string& result_toml, const RefineResult& r);
-// (run/run_folder.hpp's write_refined_result applies it to a run folder's result.toml.)
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -5,7 +5,7 @@
 
 #include "fem/design.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 SimulatorPool::SimulatorPool(fem::WhiskerModelSpec spec, fem::SceneConfig scene, fem::SolverConfig solver)
     : spec_(std::move(spec)), scene_(scene), solver_(solver) {
@@ -59,4 +59,4 @@ int SimulatorPool::constructed() const {
   return constructed_;
 }
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

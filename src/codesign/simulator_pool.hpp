@@ -16,7 +16,7 @@
 #include "fem/simulator.hpp"
 #include "fem/whisker_model.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 class SimulatorPool {
  public:
@@ -46,4 +46,4 @@ class SimulatorPool {
   int constructed_ = 0;
 };
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -7,7 +7,7 @@
 
 #include "base/enum_names.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 // Which observation the policy sees (whisker_env.hpp lists the components):
 //   Paper          {j, p, ε}      the paper's main framework (default)
@@ -105,4 +105,4 @@ struct TaskConfig {
   FaultConfig faults;
 };
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

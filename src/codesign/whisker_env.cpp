@@ -10,7 +10,7 @@
 
 #include "fem/design.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 namespace {
 
@@ -302,4 +302,4 @@ rl::StepResult WhiskerEnv::step(const Eigen::VectorXd& action) {
   return out;
 }
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -51,7 +51,7 @@
 #include "codesign/task_config.hpp"
 #include "rl/env.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 
 inline constexpr double kObservationClip = 3.0;
 inline constexpr int kPrivilegedDim = 5;
@@ -109,7 +109,7 @@ class WhiskerEnv final : public rl::Env {
   void set_recording(bool on) { recording_ = on; }
   const std::vector<TraceRow>& trace() const { return trace_; }
   // Called with the simulator and the new row each time a trace row is kept (recording on):
-  // after settling and after every simulation step. For renders (run/episode_render.hpp).
+  // after settling and after every simulation step. For renders.
   using StepObserver = std::function<void(const fem::Simulator&, const TraceRow&)>;
   void set_step_observer(StepObserver observer) { observer_ = std::move(observer); }
 
@@ -173,4 +173,4 @@ class WhiskerEnv final : public rl::Env {
   StepObserver observer_;
 };
 
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -4,7 +4,7 @@
 // World frame and units are the simulator's (fem/scene.hpp): millimetres, z up, the whisker
 // clamped at the origin and inclined down along +x, the base turning about the y axis, the
 // plate a horizontal plane below the tip. Nothing here knows about the simulator: callers
-// (src/run/episode_render.*) fill a SceneFrame from it.
+// fill a SceneFrame from it.
 //
 // Drawn in the 3-D viewport of a panel:
 //   * the whisker's boundary surface at its deformed positions, smooth-shaded (one directional

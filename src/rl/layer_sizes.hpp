@@ -1,7 +1,7 @@
 #pragma once
 // Layer sizes of an MLP (mlp.hpp) from its input size, hidden sizes and output size:
 // {in, hidden..., out}. Shared by the feed-forward and the recurrent actor-critic, and by the
-// check of a policy file against a config (run/file_fit.cpp).
+// check of a policy file against a config.
 #include <vector>
 
 namespace codesign::rl {

@@ -8,8 +8,11 @@
 #include "base/errors.hpp"
 #include "io/atomic_file.hpp"
 #include "rl/policy_file.hpp"
+#include "run/run_folder.hpp"
 
 namespace codesign::run {
+
+using namespace core;  // this file works on the co-design core's types (src/codesign)
 
 namespace {
 
@@ -92,8 +95,8 @@ class Reader {
 }  // namespace
 
 std::vector<KeptCheckpoint> kept_checkpoints(const CodesignConfig& c) {
-  return {{c.distribution.exploration_end, "t1", "checkpoint_t1.bin"},
-          {c.distribution.exploitation_start, "t2", "checkpoint_t2.bin"}};
+  return {{c.distribution.exploration_end, "t1", run_file::kCheckpointT1},
+          {c.distribution.exploitation_start, "t2", run_file::kCheckpointT2}};
 }
 
 std::uint64_t fingerprint(const std::string& text) {

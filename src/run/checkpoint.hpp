@@ -30,14 +30,12 @@
 
 namespace codesign::run {
 
-using namespace coopt;  // the run layer works on the co-design core's types (src/codesign)
-
 inline constexpr std::uint32_t kCheckpointVersion = 3;
 
 struct Checkpoint {
   std::uint64_t config_fingerprint = 0;
   double wall_s = 0.0;                         // run time before this checkpoint (progress only)
-  LoopState loop;
+  core::LoopState loop;
   std::map<std::string, std::uint64_t> logs;   // log file name -> byte length at the checkpoint
 };
 
@@ -57,7 +55,7 @@ struct KeptCheckpoint {
   std::string name;   // "t1" or "t2"
   std::string file;   // its file name in the run folder
 };
-std::vector<KeptCheckpoint> kept_checkpoints(const CodesignConfig& c);
+std::vector<KeptCheckpoint> kept_checkpoints(const core::CodesignConfig& c);
 
 // FNV-1a 64 of a text (the config fingerprint).
 std::uint64_t fingerprint(const std::string& text);

@@ -10,6 +10,8 @@
 
 namespace codesign::run {
 
+using namespace core;  // this file works on the co-design core's types (src/codesign)
+
 TaskConfig read_task_config(io::TableReader& root) {
   io::TableReader t = root.table("task");
   TaskConfig c;
@@ -109,8 +111,7 @@ PidTuningConfig read_pid_config(io::TableReader& root) {
   c.test_episodes = static_cast<int>(t.integer("test_episodes", c.test_episodes, 1, 100000));
   c.estimator_fit_episodes =
       static_cast<int>(t.integer("estimator_fit_episodes", c.estimator_fit_episodes, 1, 1000));
-  c.search.method = local_method_from_name(
-      t.string("method", to_string(c.search.method), {"bobyqa", "cobyla", "neldermead", "sbplx"}));
+  c.search.method = t.choice("method", c.search.method, kLocalMethodNames);
   c.search.starts = static_cast<int>(t.integer("starts", c.search.starts, 1, 100));
   c.search.max_evals = static_cast<int>(t.integer("max_evals", c.search.max_evals, c.search.starts, 100000));
   c.search.xtol_rel = t.number("xtol_rel", c.search.xtol_rel, 0.0, 0.5);

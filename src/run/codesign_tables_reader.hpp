@@ -8,15 +8,13 @@
 
 namespace codesign::run {
 
-using namespace coopt;  // the run layer works on the co-design core's types (src/codesign)
-
 // [task], and [faults] into TaskConfig::faults.
-TaskConfig read_task_config(io::TableReader& root);
+core::TaskConfig read_task_config(io::TableReader& root);
 // The [codesign] table; pressure ranges come from the task (read it first).
-CodesignConfig read_codesign_config(io::TableReader& root, const TaskConfig& task);
+core::CodesignConfig read_codesign_config(io::TableReader& root, const core::TaskConfig& task);
 // The [pid] table (PID gain bounds, start, search budget, tuning and test phases).
-PidTuningConfig read_pid_config(io::TableReader& root);
+core::PidTuningConfig read_pid_config(io::TableReader& root);
 // The [sweep] table (pressure grid, controllers, fixed-θ budget, design range).
-SweepConfig read_sweep_config(io::TableReader& root, const TaskConfig& task);
+core::SweepConfig read_sweep_config(io::TableReader& root, const core::TaskConfig& task);
 
 }  // namespace codesign::run

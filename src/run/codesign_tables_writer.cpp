@@ -7,6 +7,8 @@
 
 namespace codesign::run {
 
+using namespace core;  // this file works on the co-design core's types (src/codesign)
+
 void write_task_table(std::ostream& out, const TaskConfig& c) {
   io::TomlTableWriter t(out, "task");
   t.integer("episode_steps", c.episode_steps);

@@ -9,20 +9,18 @@
 #include "fem/simulator.hpp"
 #include "fem/whisker_model.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 struct LoopConfig;  // outer_loop.hpp
 }
 
 namespace codesign::run {
 
-using namespace coopt;  // the run layer works on the co-design core's types (src/codesign)
-
 // [task] (observation as its name).
-void write_task_table(std::ostream& out, const TaskConfig& task);
+void write_task_table(std::ostream& out, const core::TaskConfig& task);
 // [faults] (resolved_run_config writes it only when a fault is enabled).
-void write_faults_table(std::ostream& out, const FaultConfig& faults);
+void write_faults_table(std::ostream& out, const core::FaultConfig& faults);
 // [codesign] (baseline as "none" / "single_design", plate_phase_deg in degrees).
-void write_codesign_table(std::ostream& out, const CodesignConfig& codesign);
+void write_codesign_table(std::ostream& out, const core::CodesignConfig& codesign);
 
 // The resolved config of a co-design run: a header comment, then [material], [scene],
 // [solver], [geometry], [mesh], [fibres] (io::write_fem_tables), [task], [faults] (if enabled), [codesign] and [ppo]
@@ -30,6 +28,6 @@ void write_codesign_table(std::ostream& out, const CodesignConfig& codesign);
 // of io/fem_config.hpp, io/mesh_config.hpp, codesign_tables_reader.hpp and read_ppo_config over
 // rl::paper_ppo_config()) gives the same values, so resolving that again gives the same text.
 std::string resolved_run_config(const fem::WhiskerModelSpec& spec, const fem::SceneConfig& scene,
-                                const fem::SolverConfig& solver, const LoopConfig& loop);
+                                const fem::SolverConfig& solver, const core::LoopConfig& loop);
 
 }  // namespace codesign::run

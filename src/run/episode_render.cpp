@@ -11,6 +11,7 @@
 
 #include "base/errors.hpp"
 #include "base/file_write.hpp"
+#include "codesign/open_loop_scenario.hpp"
 #include "codesign/policy_controller.hpp"
 #include "fem/design.hpp"
 #include "fem/mesh_ops.hpp"
@@ -23,6 +24,8 @@
 #include "run/run_folder.hpp"
 
 namespace codesign::run {
+
+using namespace core;  // this file works on the co-design core's types (src/codesign)
 
 namespace fs = std::filesystem;
 
@@ -199,18 +202,9 @@ std::vector<RecordedFrame> record_scenario(const std::shared_ptr<SimulatorPool>&
   FrameKeeper keep(*model, task, title, every_steps, 0);
   std::unique_ptr<fem::Simulator> sim = sims->acquire(sc.design);
   sim->reset();
-  sim->set_pressures_kPa(sc.pressures_kPa[0], sc.pressures_kPa.size() > 1 ? sc.pressures_kPa[1] : 0.0);
-  fem::StepResult r = sim->settle();
-  if (r.ok()) keep.see(*sim, trace_row(sim->sensors(), 0, 0.0));
-  for (int k = 0; k < sc.steps && r.ok(); ++k) {
-    const int hold = k / sc.theta_hold_steps;
-    if (k % sc.theta_hold_steps == 0) {
-      const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(hold), sc.theta_deg.size() - 1);
-      sim->set_base_angle_target(sc.theta_deg[i] * std::numbers::pi / 180.0, sc.theta_hold_steps);
-    }
-    r = sim->step();
+  core::run_open_loop_scenario(*sim, sc, [&](int, int hold, const fem::StepResult& r) {
     if (r.ok()) keep.see(*sim, trace_row(sim->sensors(), hold, 0.0));
-  }
+  });
   sims->release(sc.design, std::move(sim));
   return keep.finish();
 }
@@ -295,7 +289,7 @@ void render_run_frames(const fs::path& run_dir, const std::shared_ptr<SimulatorP
                          label + design_title(setup.design, setup.p1_kPa, setup.p2_kPa), k);
       frames.insert(frames.end(), std::make_move_iterator(e.begin()), std::make_move_iterator(e.end()));
     }
-    const fs::path dir = run_dir / "frames" / which;
+    const fs::path dir = run_dir / run_file::kFramesDir / which;
     const int n = write_frames(dir, {frames}, config, force);
     std::printf("codesign: rendered %d frames of %s (%dx%d) in %.1f s -> %s\n", n, which, config.width, config.height,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), dir.string().c_str());

@@ -24,8 +24,6 @@
 
 namespace codesign::run {
 
-using namespace coopt;  // the run layer works on the co-design core's types (src/codesign)
-
 // The outer surface of a whisker model (boundary faces without the chamber walls) and the
 // per-vertex strain: the volume-weighted mean of the axial strain of the tets at the node.
 class WhiskerSurface {
@@ -49,7 +47,7 @@ class WhiskerSurface {
 struct RecordedFrame {
   int episode = 0;
   int step = 0;                 // simulation steps since the settled state (0 = settled)
-  TraceRow row;                 // t, θ, F, ε, tip, plate, action
+  core::TraceRow row;                 // t, θ, F, ε, tip, plate, action
   io::SceneFrame scene;
   io::FrameOverlay overlay;
 };
@@ -57,13 +55,13 @@ struct RecordedFrame {
 // A closed-loop episode of the whisker task: `setup` (design, pressures, plate phase) run by
 // `controller` (nullptr: the base held still), a frame after settling and every `every_steps`
 // simulation steps after it, and the last step. `title` heads every frame's text.
-std::vector<RecordedFrame> record_episode(const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task,
-                                          const EpisodeSetup& setup, const Controller& controller, int every_steps,
+std::vector<RecordedFrame> record_episode(const std::shared_ptr<core::SimulatorPool>& sims, const core::TaskConfig& task,
+                                          const core::EpisodeSetup& setup, const core::Controller& controller, int every_steps,
                                           const std::string& title, int episode = 0);
 
 // The open-loop scenario of `codesign sim` ([sim]: design, pressures, θ schedule, steps) on the
 // simulators of `sims`; the band of the overlay is the task's.
-std::vector<RecordedFrame> record_scenario(const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task,
+std::vector<RecordedFrame> record_scenario(const std::shared_ptr<core::SimulatorPool>& sims, const core::TaskConfig& task,
                                            const io::SimScenario& scenario, int every_steps, const std::string& title);
 
 // Renders the sequences (1: one panel; 2: side by side, the shorter one holding its last frame)
@@ -82,7 +80,7 @@ std::string design_title(int design, double p1_kPa, double p2_kPa);
 // of the runner-up (from DIR/result.toml) with the final policy (DIR/policy.bin) and renders
 // them into DIR/frames/best/ and DIR/frames/runner_up/. eval_episodes: the evaluation's episode
 // count (it sets the plate phases). Prints one line per design.
-void render_run_frames(const std::filesystem::path& run_dir, const std::shared_ptr<SimulatorPool>& sims,
-                       const TaskConfig& task, int eval_episodes, const io::RenderConfig& config, bool force);
+void render_run_frames(const std::filesystem::path& run_dir, const std::shared_ptr<core::SimulatorPool>& sims,
+                       const core::TaskConfig& task, int eval_episodes, const io::RenderConfig& config, bool force);
 
 }  // namespace codesign::run

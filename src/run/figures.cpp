@@ -13,10 +13,14 @@
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_table.hpp"
-#include "io/toml_reader.hpp"
+#include "io/run_lock.hpp"
+#include "run/run.hpp"
+#include "run/run_config.hpp"
 #include "run/run_folder.hpp"
 
 namespace codesign::run {
+
+using namespace core;  // this file works on the co-design core's types (src/codesign)
 
 namespace fs = std::filesystem;
 
@@ -55,7 +59,9 @@ std::vector<std::size_t> last_of_each_run(const std::vector<std::int64_t>& keys)
 }
 
 std::vector<PhaseSpan> phase_spans(double t1, double t2, double t_end) {
-  const PhaseSpan all[3] = {{"exploration", 0.0, t1}, {"transition", t1, t2}, {"exploitation", t2, t_end}};
+  const PhaseSpan all[3] = {{to_string(Phase::Exploration), 0.0, t1},
+                            {to_string(Phase::Transition), t1, t2},
+                            {to_string(Phase::Exploitation), t2, t_end}};
   std::vector<PhaseSpan> out;
   for (const PhaseSpan& p : all) {
     const double s = std::clamp(p.start, 0.0, t_end), e = std::clamp(p.end, 0.0, t_end);
@@ -121,13 +127,13 @@ std::optional<EvalDesign> read_eval_design(const fs::path& dir, const std::strin
 
 // eval/<which>_trace.csv (and the traced episode's return from eval/<which>.csv, row 0).
 void read_trace(const fs::path& dir, const std::string& which, std::vector<TracePoint>& trace, double& ret) {
-  const fs::path file = dir / "eval" / (which + "_trace.csv");
+  const fs::path file = dir / run_file::kEvalDir / (which + "_trace.csv");
   if (!fs::exists(file)) return;
   const io::CsvTable t = io::read_csv(file.string());
   const std::size_t ct = t.column("t_s"), cth = t.column("theta_rad"), cf = t.column("F_mN");
   for (std::size_t r = 0; r < t.rows(); ++r) trace.push_back({t.number(r, ct), t.number(r, cth), t.number(r, cf)});
   ret = NAN;
-  const fs::path episodes = dir / "eval" / (which + ".csv");
+  const fs::path episodes = dir / run_file::kEvalDir / (which + ".csv");
   if (fs::exists(episodes)) {
     const io::CsvTable e = io::read_csv(episodes.string());
     if (e.rows() > 0) ret = e.number(0, e.column("return"));
@@ -166,23 +172,23 @@ RunFigureData read_run_figure_data(const std::string& dir_name) {
   RunFigureData d;
   d.dir = dir_name;
 
-  const fs::path config = dir / "config.toml";
+  const fs::path config = dir / run_file::kConfig;
   if (!fs::exists(config))
     throw InputError(config.string() + ": missing (a run folder written by `codesign run` holds it)");
   {
-    io::TableReader root = io::TableReader::from_file(config.string());
-    io::TableReader task = root.table("task");
-    d.target_force_mN = task.number("target_force_mN", 20.0, 1e-9, 1e9);
-    d.tolerance_fraction = task.number("tolerance_fraction", 0.2, 1e-9, 1.0);
-    d.observation = task.choice("observation", ObservationSet::Paper, kObservationSetNames);
-    io::TableReader cd = root.table("codesign");
-    d.exploration_end = static_cast<double>(cd.integer("exploration_end", 0, 0, INT64_MAX));
-    d.exploitation_start = static_cast<double>(cd.integer("exploitation_start", 0, 0, INT64_MAX));
-    d.baseline = cd.choice("baseline", Baseline::None, kBaselineNames);
+    // The run's resolved config, through the one reader of the run config (every key is explicit
+    // there, so no default of this file decides a figure).
+    const RunConfig c = read_run_config(config.string());
+    d.target_force_mN = c.task.target_force_mN;
+    d.tolerance_fraction = c.task.tolerance_fraction;
+    d.observation = c.task.observation;
+    d.exploration_end = static_cast<double>(c.codesign.distribution.exploration_end);
+    d.exploitation_start = static_cast<double>(c.codesign.distribution.exploitation_start);
+    d.baseline = c.codesign.baseline;
   }
 
   {
-    const io::CsvTable t = io::read_csv((dir / "sampled.csv").string());
+    const io::CsvTable t = io::read_csv((dir / run_file::kSampled).string());
     const std::size_t ck = t.column("k"), ct = t.column("t"), cj = t.column("j"), cr = t.column("return"),
                       cm1 = t.column("mu1_kPa"), cm2 = t.column("mu2_kPa"), cs1 = t.column("sigma1_kPa"),
                       cs2 = t.column("sigma2_kPa");
@@ -201,7 +207,7 @@ RunFigureData read_run_figure_data(const std::string& dir_name) {
     }
   }
   {
-    const io::CsvTable t = io::read_csv((dir / "distribution.csv").string());
+    const io::CsvTable t = io::read_csv((dir / run_file::kDistribution).string());
     const std::size_t ck = t.column("k"), ct = t.column("t"), cp = t.column("phase"), cb = t.column("best_j");
     const std::size_t tops[3] = {t.column("top1_j"), t.column("top2_j"), t.column("top3_j")};
     if (t.rows() == 0) throw InputError(t.path() + ": no distribution updates yet");
@@ -210,9 +216,9 @@ RunFigureData read_run_figure_data(const std::string& dir_name) {
       u.k = t.integer(r, ck);
       u.t = t.integer(r, ct);
       u.phase = t.cell(r, cp);
-      if (u.phase != "exploration" && u.phase != "transition" && u.phase != "exploitation") {
+      if (!value_of(kPhaseNames, u.phase)) {
         throw InputError(t.path() + ": line " + std::to_string(r + 2) + ", column 'phase': '" + u.phase +
-                         "'; allowed exploration, transition, exploitation");
+                         "'; allowed " + names_list(kPhaseNames));
       }
       for (const std::size_t c : tops) u.top.push_back(design_cell(t, r, c));
       u.best_design = design_cell(t, r, cb);
@@ -302,6 +308,272 @@ std::vector<double> returns_of(const RunFigureData& r) {
   return x;
 }
 
+// What every figure is made from: the options, the run and the comparison runs, the folders, d*.
+struct FigureInputs {
+  const FigureOptions& options;
+  const RunFigureData& run;
+  const std::vector<std::pair<std::string, RunFigureData>>& others;
+  fs::path plots, out_dir, data_dir;
+  int dstar = 0, dstar_n = 1;  // d* and its number of chambers
+  double t_end = 0;            // the run's last sampled timestep
+  bool has_phases = true;      // not for the single-design baseline
+
+  // The gnuplot call of figure `name` with the arguments every script takes.
+  io::GnuplotCall base_call(const std::string& name) const {
+    io::GnuplotCall c;
+    c.executable = options.gnuplot;
+    c.script = (plots / (name + ".gp")).string();
+    c.set("plotsdir", plots.string());
+    c.set("datadir", data_dir.string());
+    c.set("outfile", (out_dir / (name + ".png")).string());
+    return c;
+  }
+  FigureOutcome outcome(const std::string& name) const {
+    FigureOutcome f;
+    f.name = name;
+    f.png = (out_dir / (name + ".png")).string();
+    return f;
+  }
+};
+
+// fig2a: every sampled return, moving average, best so far, d*'s running mean, phases
+void add_fig2a(const FigureInputs& in, std::vector<DataFile>& files, PreparedFigures& prepared) {
+  const FigureOptions& o = in.options;
+  const RunFigureData& run = in.run;
+  const int dstar = in.dstar;
+  const double t_end = in.t_end;
+  const bool has_phases = in.has_phases;
+  const std::vector<double> x = returns_of(run);
+  const std::vector<double> mean = trailing_mean(x, o.window), best = running_max(x);
+  std::ostringstream s;
+  s << "# fig2a: return of every sampled design (sampled.csv, in sample order)\n"
+    << "# t [timesteps], k, j, return\n";
+  std::vector<std::int64_t> ts;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const SampleRow& r = run.samples[i];
+    s << r.t << ' ' << r.k << ' ' << r.design << ' ' << g10(x[i]) << '\n';
+    ts.push_back(r.t);
+  }
+  files.push_back({"fig2a_samples.dat", s.str()});
+  std::ostringstream sc;
+  sc << "# fig2a: after each update's last sample: t [timesteps], moving mean over the last " << o.window
+     << " samples, best so far\n";
+  for (const std::size_t i : last_of_each_run(ts)) sc << ts[i] << ' ' << g10(mean[i]) << ' ' << g10(best[i]) << '\n';
+  files.push_back({"fig2a_curves.dat", sc.str()});
+
+  std::vector<double> xd;
+  std::vector<std::int64_t> td;
+  for (const SampleRow& r : run.samples)
+    if (r.design == dstar) xd.push_back(r.episode_return), td.push_back(r.t);
+  const std::vector<double> md = trailing_mean(xd, o.window);
+  std::ostringstream sd;
+  sd << "# fig2a: the samples of d* = " << design_label(dstar) << ", after each update that sampled it\n"
+     << "# t [timesteps], running mean over its last " << o.window << " samples\n";
+  for (const std::size_t i : last_of_each_run(td)) sd << td[i] << ' ' << g10(md[i]) << '\n';
+  if (xd.empty()) sd << "# (d* was never sampled)\n";
+  files.push_back({"fig2a_dstar.dat", sd.str()});
+
+  std::ostringstream sp;
+  sp << "# fig2a: phases of Algorithm 2 within the run, t [timesteps]: name, start, end\n";
+  double t_transition = -1, t_exploitation = -1;
+  if (has_phases) {
+    for (const PhaseSpan& p : phase_spans(run.exploration_end, run.exploitation_start, t_end)) {
+      sp << p.name << ' ' << g10(p.start) << ' ' << g10(p.end) << '\n';
+      if (p.name == to_string(Phase::Transition)) t_transition = p.start;
+      if (p.name == to_string(Phase::Exploitation)) t_exploitation = p.start;
+    }
+  }
+  files.push_back({"fig2a_phases.dat", sp.str()});
+
+  io::GnuplotCall c = in.base_call("fig2a");
+  c.set("t_end", t_end);
+  c.set("t_transition", t_transition);
+  c.set("t_exploitation", t_exploitation);
+  c.set("window", static_cast<double>(o.window));
+  c.set("dstar_label", "d* = " + design_label(dstar));
+  c.set("dstar_samples", static_cast<double>(xd.size()));
+  c.set("run_label", run.default_label());
+  prepared.figures.push_back({in.outcome("fig2a"), c});
+}
+
+// fig2b: q_cont of d* in kPa over updates (carried forward between samples of d*)
+void add_fig2b(const FigureInputs& in, std::vector<DataFile>& files, PreparedFigures& prepared) {
+  const RunFigureData& run = in.run;
+  const int dstar_n = in.dstar_n;
+  const int dstar = in.dstar;
+  const bool has_phases = in.has_phases;
+  std::ostringstream s;
+  s << "# fig2b: q_cont of d* = " << design_label(dstar) << " after each update, in kPa (delta-method sigma)\n"
+    << "# k, t [timesteps], mu1, sigma1, mu2, sigma2\n";
+  std::size_t next = 0;
+  bool seen = false;
+  double cur[4] = {0, 0, 0, 0};
+  std::int64_t k_transition = -1, k_exploitation = -1;
+  for (const UpdateRow& u : run.updates) {
+    if (u.phase == to_string(Phase::Transition) && k_transition < 0) k_transition = u.k;
+    if (u.phase == to_string(Phase::Exploitation) && k_exploitation < 0) k_exploitation = u.k;
+    for (; next < run.samples.size() && run.samples[next].k <= u.k; ++next) {
+      const SampleRow& r = run.samples[next];
+      if (r.design != dstar) continue;
+      seen = true;
+      cur[0] = r.mu_kPa[0], cur[1] = r.sigma_kPa[0], cur[2] = r.mu_kPa[1], cur[3] = r.sigma_kPa[1];
+    }
+    if (seen)
+      s << u.k << ' ' << u.t << ' ' << g10(cur[0]) << ' ' << g10(cur[1]) << ' ' << g10(cur[2]) << ' '
+        << g10(cur[3]) << '\n';
+  }
+  files.push_back({"fig2b.dat", s.str()});
+  FigureOutcome f = in.outcome("fig2b");
+  if (!seen) {
+    f.message = "d* = " + design_label(dstar) + " was never sampled: no q_cont to plot";
+    prepared.figures.push_back({f, std::nullopt});
+  } else {
+    io::GnuplotCall c = in.base_call("fig2b");
+    const double p_star[2] = {run.best ? run.best->pressures_kPa[0] : cur[0],
+                              run.best ? run.best->pressures_kPa[1] : cur[2]};
+    c.set("chambers", static_cast<double>(dstar_n));
+    c.set("k_end", static_cast<double>(run.updates.back().k));
+    c.set("p_star1", p_star[0]);
+    c.set("p_star2", p_star[1]);
+    c.set("k_transition", has_phases ? static_cast<double>(k_transition) : -1.0);
+    c.set("k_exploitation", has_phases ? static_cast<double>(k_exploitation) : -1.0);
+    c.set("dstar_label", "d* = " + design_label(dstar) + ", p* = " +
+                             (dstar_n == 1 ? fixed(p_star[0], 3) : fixed(p_star[0], 3) + ", " + fixed(p_star[1], 3)) +
+                             " kPa");
+    prepared.figures.push_back({f, c});
+  }
+}
+
+// fig2c: reward distributions of the top designs
+void add_fig2c(const FigureInputs& in, std::vector<DataFile>& files, PreparedFigures& prepared) {
+  const FigureOptions& o = in.options;
+  const RunFigureData& run = in.run;
+  const int dstar = in.dstar;
+  std::vector<int> designs{dstar};
+  if (const std::optional<int> r = run.second_design()) designs.push_back(*r);
+  std::vector<std::vector<double>> lists(designs.size());
+  for (const SampleRow& r : run.samples)
+    for (std::size_t i = 0; i < designs.size(); ++i)
+      if (r.design == designs[i]) lists[i].push_back(r.episode_return);
+  std::ostringstream sr;
+  sr << "# fig2c: sampled returns of the top designs, one block per design (gnuplot index 0, 1, ...)\n";
+  for (std::size_t i = 0; i < designs.size(); ++i) {
+    if (i > 0) sr << "\n\n";
+    sr << "# design " << design_label(designs[i]) << ": " << lists[i].size() << " samples\n";
+    for (const double v : lists[i]) sr << g10(v) << '\n';
+  }
+  files.push_back({"fig2c_rewards.dat", sr.str()});
+  const Histogram h = histogram(lists, o.bins);
+  std::ostringstream sh;
+  sh << "# fig2c: histogram of the sampled returns, fraction of each design's samples per bin\n"
+     << "# bin low, bin high, bin centre";
+  for (const int j : designs) sh << ", fraction j" << j;
+  sh << '\n';
+  for (std::size_t b = 0; b + 1 < h.edges.size(); ++b) {
+    sh << g10(h.edges[b]) << ' ' << g10(h.edges[b + 1]) << ' ' << g10(0.5 * (h.edges[b] + h.edges[b + 1]));
+    for (const auto& f : h.fractions) sh << ' ' << g10(f[b]);
+    sh << '\n';
+  }
+  files.push_back({"fig2c_hist.dat", sh.str()});
+  FigureOutcome f = in.outcome("fig2c");
+  const bool any = std::any_of(lists.begin(), lists.end(), [](const auto& l) { return !l.empty(); });
+  if (!any) {
+    f.message = "the top designs were never sampled";
+    prepared.figures.push_back({f, std::nullopt});
+  } else {
+    io::GnuplotCall c = in.base_call("fig2c");
+    c.set("n_designs", static_cast<double>(designs.size()));
+    c.set("bin_width", h.edges[1] - h.edges[0]);
+    for (std::size_t i = 0; i < designs.size(); ++i) {
+      double mean = 0;
+      for (const double v : lists[i]) mean += v;
+      mean = lists[i].empty() ? 0 : mean / static_cast<double>(lists[i].size());
+      const std::string role = i == 0 ? "d* " : "runner-up ";
+      c.set("label" + std::to_string(i), role + design_label(designs[i]) + ": " + std::to_string(lists[i].size()) +
+                                             " samples, mean " + fixed(mean, 2));
+    }
+    prepared.figures.push_back({f, c});
+  }
+}
+
+// fig2d: moving average of the sampled returns, this run and the comparison runs
+void add_fig2d(const FigureInputs& in, std::vector<DataFile>& files, PreparedFigures& prepared) {
+  const FigureOptions& o = in.options;
+  const RunFigureData& run = in.run;
+  const auto& others = in.others;
+  std::vector<std::pair<std::string, const RunFigureData*>> runs{{run.default_label(), &run}};
+  for (const auto& [label, r] : others) runs.emplace_back(label, &r);
+  std::ostringstream s;
+  s << "# fig2d: moving mean of the sampled returns over the last " << o.window
+    << " samples, one block per run (gnuplot index 0, 1, ...)\n";
+  io::GnuplotCall c = in.base_call("fig2d");
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const RunFigureData& r = *runs[i].second;
+    const std::vector<double> m = trailing_mean(returns_of(r), o.window);
+    std::vector<std::int64_t> ts;
+    for (const SampleRow& row : r.samples) ts.push_back(row.t);
+    if (i > 0) s << "\n\n";
+    s << "# run " << runs[i].first << " (" << r.dir << "): t [timesteps], moving mean after the update's last sample\n";
+    for (const std::size_t k : last_of_each_run(ts)) s << ts[k] << ' ' << g10(m[k]) << '\n';
+    c.set("label" + std::to_string(i), runs[i].first);
+  }
+  files.push_back({"fig2d.dat", s.str()});
+  c.set("n_runs", static_cast<double>(runs.size()));
+  c.set("window", static_cast<double>(o.window));
+  prepared.figures.push_back({in.outcome("fig2d"), c});
+}
+
+// fig3: F and θ over the first evaluation episode
+void add_fig3(const FigureInputs& in, std::vector<DataFile>& files, PreparedFigures& prepared) {
+  const RunFigureData& run = in.run;
+  const auto& others = in.others;
+  struct Curve {
+    std::string label;
+    const std::vector<TracePoint>* trace;
+  };
+  std::vector<Curve> curves;
+  auto label_of = [](const std::string& role, const EvalDesign& e, double ret) {
+    const int n = fem::design_from_index(e.design).n;
+    std::string l = role + design_label(e.design) + ", " + pressures_text(e.pressures_kPa, n);
+    if (std::isfinite(ret)) l += ": return " + fixed(ret, 2);
+    return l;
+  };
+  if (run.best && !run.best_trace.empty())
+    curves.push_back({label_of("d* ", *run.best, run.best_trace_return), &run.best_trace});
+  if (run.runner_up && !run.runner_up_trace.empty())
+    curves.push_back({label_of("runner-up ", *run.runner_up, run.runner_up_trace_return), &run.runner_up_trace});
+  for (const auto& [label, r] : others)
+    if (r.observation == ObservationSet::NoFeedback && r.best && !r.best_trace.empty())
+      curves.push_back({label_of(label + ": d* ", *r.best, r.best_trace_return), &r.best_trace});
+  std::ostringstream s;
+  s << "# fig3: the first evaluation episode (eval/<which>_trace.csv), one block per curve (gnuplot index)\n";
+  io::GnuplotCall c = in.base_call("fig3");
+  double t_max = 0;
+  for (std::size_t i = 0; i < curves.size(); ++i) {
+    if (i > 0) s << "\n\n";
+    s << "# " << curves[i].label << "\n# t [s], F [mN], theta [deg]\n";
+    for (const TracePoint& p : *curves[i].trace) {
+      s << g10(p.t_s) << ' ' << g10(p.force_mN) << ' ' << g10(p.theta_rad * 180.0 / std::numbers::pi) << '\n';
+      t_max = std::max(t_max, p.t_s);
+    }
+    c.set("label" + std::to_string(i), curves[i].label);
+  }
+  files.push_back({"fig3.dat", s.str()});
+  FigureOutcome f = in.outcome("fig3");
+  if (curves.empty()) {
+    f.message = "no evaluation traces (eval/best_trace.csv): the run has not finished";
+    prepared.figures.push_back({f, std::nullopt});
+  } else {
+    c.set("n_curves", static_cast<double>(curves.size()));
+    c.set("target_mN", run.target_force_mN);
+    c.set("band_lo_mN", run.target_force_mN * (1.0 - run.tolerance_fraction));
+    c.set("band_hi_mN", run.target_force_mN * (1.0 + run.tolerance_fraction));
+    c.set("tolerance_percent", 100.0 * run.tolerance_fraction);
+    c.set("t_max", t_max);
+    prepared.figures.push_back({f, c});
+  }
+}
+
 }  // namespace
 
 PreparedFigures prepare_figures(const FigureOptions& o) {
@@ -322,250 +594,22 @@ PreparedFigures prepare_figures(const FigureOptions& o) {
   std::vector<std::pair<std::string, RunFigureData>> others;
   for (const auto& [label, dir] : o.compare) others.emplace_back(label, read_run_figure_data(dir));
 
-  const fs::path out_dir = fs::path(o.run_dir) / "figures";
+  const fs::path out_dir = fs::path(o.run_dir) / run_file::kFiguresDir;
   const fs::path data_dir = out_dir / "data";
   std::vector<DataFile> files;
   PreparedFigures prepared;
-  auto base_call = [&](const std::string& name) {
-    io::GnuplotCall c;
-    c.executable = o.gnuplot;
-    c.script = (plots / (name + ".gp")).string();
-    c.set("plotsdir", plots.string());
-    c.set("datadir", data_dir.string());
-    c.set("outfile", (out_dir / (name + ".png")).string());
-    return c;
-  };
-  auto outcome = [&](const std::string& name) {
-    FigureOutcome f;
-    f.name = name;
-    f.png = (out_dir / (name + ".png")).string();
-    return f;
-  };
   const int dstar = run.leading_design();
-  const int dstar_n = fem::design_from_index(dstar).n;
-  const double t_end = static_cast<double>(run.samples.back().t);
-  const bool has_phases = run.baseline != Baseline::SingleDesign;
-
-  // ---- fig2a: every sampled return, moving average, best so far, d*'s running mean, phases
-  {
-    const std::vector<double> x = returns_of(run);
-    const std::vector<double> mean = trailing_mean(x, o.window), best = running_max(x);
-    std::ostringstream s;
-    s << "# fig2a: return of every sampled design (sampled.csv, in sample order)\n"
-      << "# t [timesteps], k, j, return\n";
-    std::vector<std::int64_t> ts;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      const SampleRow& r = run.samples[i];
-      s << r.t << ' ' << r.k << ' ' << r.design << ' ' << g10(x[i]) << '\n';
-      ts.push_back(r.t);
-    }
-    files.push_back({"fig2a_samples.dat", s.str()});
-    std::ostringstream sc;
-    sc << "# fig2a: after each update's last sample: t [timesteps], moving mean over the last " << o.window
-       << " samples, best so far\n";
-    for (const std::size_t i : last_of_each_run(ts)) sc << ts[i] << ' ' << g10(mean[i]) << ' ' << g10(best[i]) << '\n';
-    files.push_back({"fig2a_curves.dat", sc.str()});
-
-    std::vector<double> xd;
-    std::vector<std::int64_t> td;
-    for (const SampleRow& r : run.samples)
-      if (r.design == dstar) xd.push_back(r.episode_return), td.push_back(r.t);
-    const std::vector<double> md = trailing_mean(xd, o.window);
-    std::ostringstream sd;
-    sd << "# fig2a: the samples of d* = " << design_label(dstar) << ", after each update that sampled it\n"
-       << "# t [timesteps], running mean over its last " << o.window << " samples\n";
-    for (const std::size_t i : last_of_each_run(td)) sd << td[i] << ' ' << g10(md[i]) << '\n';
-    if (xd.empty()) sd << "# (d* was never sampled)\n";
-    files.push_back({"fig2a_dstar.dat", sd.str()});
-
-    std::ostringstream sp;
-    sp << "# fig2a: phases of Algorithm 2 within the run, t [timesteps]: name, start, end\n";
-    double t_transition = -1, t_exploitation = -1;
-    if (has_phases) {
-      for (const PhaseSpan& p : phase_spans(run.exploration_end, run.exploitation_start, t_end)) {
-        sp << p.name << ' ' << g10(p.start) << ' ' << g10(p.end) << '\n';
-        if (p.name == "transition") t_transition = p.start;
-        if (p.name == "exploitation") t_exploitation = p.start;
-      }
-    }
-    files.push_back({"fig2a_phases.dat", sp.str()});
-
-    io::GnuplotCall c = base_call("fig2a");
-    c.set("t_end", t_end);
-    c.set("t_transition", t_transition);
-    c.set("t_exploitation", t_exploitation);
-    c.set("window", static_cast<double>(o.window));
-    c.set("dstar_label", "d* = " + design_label(dstar));
-    c.set("dstar_samples", static_cast<double>(xd.size()));
-    c.set("run_label", run.default_label());
-    prepared.figures.push_back({outcome("fig2a"), c});
-  }
-
-  // ---- fig2b: q_cont of d* in kPa over updates (carried forward between samples of d*)
-  {
-    std::ostringstream s;
-    s << "# fig2b: q_cont of d* = " << design_label(dstar) << " after each update, in kPa (delta-method sigma)\n"
-      << "# k, t [timesteps], mu1, sigma1, mu2, sigma2\n";
-    std::size_t next = 0;
-    bool seen = false;
-    double cur[4] = {0, 0, 0, 0};
-    std::int64_t k_transition = -1, k_exploitation = -1;
-    for (const UpdateRow& u : run.updates) {
-      if (u.phase == "transition" && k_transition < 0) k_transition = u.k;
-      if (u.phase == "exploitation" && k_exploitation < 0) k_exploitation = u.k;
-      for (; next < run.samples.size() && run.samples[next].k <= u.k; ++next) {
-        const SampleRow& r = run.samples[next];
-        if (r.design != dstar) continue;
-        seen = true;
-        cur[0] = r.mu_kPa[0], cur[1] = r.sigma_kPa[0], cur[2] = r.mu_kPa[1], cur[3] = r.sigma_kPa[1];
-      }
-      if (seen)
-        s << u.k << ' ' << u.t << ' ' << g10(cur[0]) << ' ' << g10(cur[1]) << ' ' << g10(cur[2]) << ' '
-          << g10(cur[3]) << '\n';
-    }
-    files.push_back({"fig2b.dat", s.str()});
-    FigureOutcome f = outcome("fig2b");
-    if (!seen) {
-      f.message = "d* = " + design_label(dstar) + " was never sampled: no q_cont to plot";
-      prepared.figures.push_back({f, std::nullopt});
-    } else {
-      io::GnuplotCall c = base_call("fig2b");
-      const double p_star[2] = {run.best ? run.best->pressures_kPa[0] : cur[0],
-                                run.best ? run.best->pressures_kPa[1] : cur[2]};
-      c.set("chambers", static_cast<double>(dstar_n));
-      c.set("k_end", static_cast<double>(run.updates.back().k));
-      c.set("p_star1", p_star[0]);
-      c.set("p_star2", p_star[1]);
-      c.set("k_transition", has_phases ? static_cast<double>(k_transition) : -1.0);
-      c.set("k_exploitation", has_phases ? static_cast<double>(k_exploitation) : -1.0);
-      c.set("dstar_label", "d* = " + design_label(dstar) + ", p* = " +
-                               (dstar_n == 1 ? fixed(p_star[0], 3) : fixed(p_star[0], 3) + ", " + fixed(p_star[1], 3)) +
-                               " kPa");
-      prepared.figures.push_back({f, c});
-    }
-  }
-
-  // ---- fig2c: reward distributions of the top designs
-  {
-    std::vector<int> designs{dstar};
-    if (const std::optional<int> r = run.second_design()) designs.push_back(*r);
-    std::vector<std::vector<double>> lists(designs.size());
-    for (const SampleRow& r : run.samples)
-      for (std::size_t i = 0; i < designs.size(); ++i)
-        if (r.design == designs[i]) lists[i].push_back(r.episode_return);
-    std::ostringstream sr;
-    sr << "# fig2c: sampled returns of the top designs, one block per design (gnuplot index 0, 1, ...)\n";
-    for (std::size_t i = 0; i < designs.size(); ++i) {
-      if (i > 0) sr << "\n\n";
-      sr << "# design " << design_label(designs[i]) << ": " << lists[i].size() << " samples\n";
-      for (const double v : lists[i]) sr << g10(v) << '\n';
-    }
-    files.push_back({"fig2c_rewards.dat", sr.str()});
-    const Histogram h = histogram(lists, o.bins);
-    std::ostringstream sh;
-    sh << "# fig2c: histogram of the sampled returns, fraction of each design's samples per bin\n"
-       << "# bin low, bin high, bin centre";
-    for (const int j : designs) sh << ", fraction j" << j;
-    sh << '\n';
-    for (std::size_t b = 0; b + 1 < h.edges.size(); ++b) {
-      sh << g10(h.edges[b]) << ' ' << g10(h.edges[b + 1]) << ' ' << g10(0.5 * (h.edges[b] + h.edges[b + 1]));
-      for (const auto& f : h.fractions) sh << ' ' << g10(f[b]);
-      sh << '\n';
-    }
-    files.push_back({"fig2c_hist.dat", sh.str()});
-    FigureOutcome f = outcome("fig2c");
-    const bool any = std::any_of(lists.begin(), lists.end(), [](const auto& l) { return !l.empty(); });
-    if (!any) {
-      f.message = "the top designs were never sampled";
-      prepared.figures.push_back({f, std::nullopt});
-    } else {
-      io::GnuplotCall c = base_call("fig2c");
-      c.set("n_designs", static_cast<double>(designs.size()));
-      c.set("bin_width", h.edges[1] - h.edges[0]);
-      for (std::size_t i = 0; i < designs.size(); ++i) {
-        double mean = 0;
-        for (const double v : lists[i]) mean += v;
-        mean = lists[i].empty() ? 0 : mean / static_cast<double>(lists[i].size());
-        const std::string role = i == 0 ? "d* " : "runner-up ";
-        c.set("label" + std::to_string(i), role + design_label(designs[i]) + ": " + std::to_string(lists[i].size()) +
-                                               " samples, mean " + fixed(mean, 2));
-      }
-      prepared.figures.push_back({f, c});
-    }
-  }
-
-  // ---- fig2d: moving average of the sampled returns, this run and the comparison runs
-  {
-    std::vector<std::pair<std::string, const RunFigureData*>> runs{{run.default_label(), &run}};
-    for (const auto& [label, r] : others) runs.emplace_back(label, &r);
-    std::ostringstream s;
-    s << "# fig2d: moving mean of the sampled returns over the last " << o.window
-      << " samples, one block per run (gnuplot index 0, 1, ...)\n";
-    io::GnuplotCall c = base_call("fig2d");
-    for (std::size_t i = 0; i < runs.size(); ++i) {
-      const RunFigureData& r = *runs[i].second;
-      const std::vector<double> m = trailing_mean(returns_of(r), o.window);
-      std::vector<std::int64_t> ts;
-      for (const SampleRow& row : r.samples) ts.push_back(row.t);
-      if (i > 0) s << "\n\n";
-      s << "# run " << runs[i].first << " (" << r.dir << "): t [timesteps], moving mean after the update's last sample\n";
-      for (const std::size_t k : last_of_each_run(ts)) s << ts[k] << ' ' << g10(m[k]) << '\n';
-      c.set("label" + std::to_string(i), runs[i].first);
-    }
-    files.push_back({"fig2d.dat", s.str()});
-    c.set("n_runs", static_cast<double>(runs.size()));
-    c.set("window", static_cast<double>(o.window));
-    prepared.figures.push_back({outcome("fig2d"), c});
-  }
-
-  // ---- fig3: F and θ over the first evaluation episode
-  {
-    struct Curve {
-      std::string label;
-      const std::vector<TracePoint>* trace;
-    };
-    std::vector<Curve> curves;
-    auto label_of = [](const std::string& role, const EvalDesign& e, double ret) {
-      const int n = fem::design_from_index(e.design).n;
-      std::string l = role + design_label(e.design) + ", " + pressures_text(e.pressures_kPa, n);
-      if (std::isfinite(ret)) l += ": return " + fixed(ret, 2);
-      return l;
-    };
-    if (run.best && !run.best_trace.empty())
-      curves.push_back({label_of("d* ", *run.best, run.best_trace_return), &run.best_trace});
-    if (run.runner_up && !run.runner_up_trace.empty())
-      curves.push_back({label_of("runner-up ", *run.runner_up, run.runner_up_trace_return), &run.runner_up_trace});
-    for (const auto& [label, r] : others)
-      if (r.observation == ObservationSet::NoFeedback && r.best && !r.best_trace.empty())
-        curves.push_back({label_of(label + ": d* ", *r.best, r.best_trace_return), &r.best_trace});
-    std::ostringstream s;
-    s << "# fig3: the first evaluation episode (eval/<which>_trace.csv), one block per curve (gnuplot index)\n";
-    io::GnuplotCall c = base_call("fig3");
-    double t_max = 0;
-    for (std::size_t i = 0; i < curves.size(); ++i) {
-      if (i > 0) s << "\n\n";
-      s << "# " << curves[i].label << "\n# t [s], F [mN], theta [deg]\n";
-      for (const TracePoint& p : *curves[i].trace) {
-        s << g10(p.t_s) << ' ' << g10(p.force_mN) << ' ' << g10(p.theta_rad * 180.0 / std::numbers::pi) << '\n';
-        t_max = std::max(t_max, p.t_s);
-      }
-      c.set("label" + std::to_string(i), curves[i].label);
-    }
-    files.push_back({"fig3.dat", s.str()});
-    FigureOutcome f = outcome("fig3");
-    if (curves.empty()) {
-      f.message = "no evaluation traces (eval/best_trace.csv): the run has not finished";
-      prepared.figures.push_back({f, std::nullopt});
-    } else {
-      c.set("n_curves", static_cast<double>(curves.size()));
-      c.set("target_mN", run.target_force_mN);
-      c.set("band_lo_mN", run.target_force_mN * (1.0 - run.tolerance_fraction));
-      c.set("band_hi_mN", run.target_force_mN * (1.0 + run.tolerance_fraction));
-      c.set("tolerance_percent", 100.0 * run.tolerance_fraction);
-      c.set("t_max", t_max);
-      prepared.figures.push_back({f, c});
-    }
-  }
+  const FigureInputs in{o,
+                        run,
+                        others,
+                        plots,
+                        out_dir,
+                        data_dir,
+                        dstar,
+                        fem::design_from_index(dstar).n,
+                        static_cast<double>(run.samples.back().t),
+                        run.baseline != Baseline::SingleDesign};
+  for (const auto add : {add_fig2a, add_fig2b, add_fig2c, add_fig2d, add_fig3}) add(in, files, prepared);
 
   // ---- write: data files, then the command list
   fs::create_directories(data_dir);
@@ -616,6 +660,53 @@ FiguresReport make_figures(const FigureOptions& options) {
     report.figures.push_back(f);
   }
   return report;
+}
+
+int figures_of_run(const FigureOptions& o) {
+  // It writes RUN/figures/: not while a run writes the folder (draw_run_figures runs under the run's lock).
+  const std::unique_ptr<io::RunLock> lock = lock_run_folder(o.run_dir, /*only_if_exists=*/true);
+  const FiguresReport report = make_figures(o);
+  int failed = 0;
+  for (const FigureOutcome& f : report.figures) {
+    if (f.drawn) {
+      std::printf("figures: %s\n", f.png.c_str());
+    } else {
+      std::printf("figures: %s not drawn: %s\n", f.name.c_str(), f.message.c_str());
+      // A figure the data does not allow yet (no evaluation, d* never sampled) is not a failure.
+      if (report.gnuplot_missing || f.message.rfind("gnuplot", 0) == 0) ++failed;
+    }
+  }
+  std::printf("figures: %zu of %zu drawn; data in %s/figures/data/\n", report.drawn(), report.figures.size(),
+              o.run_dir.c_str());
+  return failed == 0 ? 0 : 1;
+}
+
+
+bool draw_run_figures(const std::string& run_dir, const std::string& plots_dir) {
+  try {
+    FigureOptions o;
+    o.run_dir = run_dir;
+    o.plots_dir = plots_dir;
+    const FiguresReport report = make_figures(o);
+    if (report.gnuplot_missing) {
+      std::fprintf(stderr,
+                   "codesign: warning: figures not drawn: gnuplot not found (install gnuplot-nox); "
+                   "data in %s/figures/data/\n",
+                   run_dir.c_str());
+      return false;
+    }
+    std::string problems;
+    for (const FigureOutcome& f : report.figures)
+      if (!f.drawn) problems += (problems.empty() ? "" : "; ") + f.name + ": " + f.message;
+    if (!problems.empty()) {
+      std::fprintf(stderr, "codesign: warning: figures: %s\n", problems.c_str());
+    }
+    std::printf("codesign: figures: %zu PNGs in %s/figures/\n", report.drawn(), run_dir.c_str());
+    return problems.empty();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "codesign: warning: figures not drawn: %s\n", e.what());
+    return false;
+  }
 }
 
 }  // namespace codesign::run

@@ -37,8 +37,6 @@
 
 namespace codesign::run {
 
-using namespace coopt;  // the run layer works on the co-design core's types (src/codesign)
-
 // ---- data preparation (pure functions, tested against hand-computed values)
 
 // y[i] = mean of x[max(0, i-window+1) .. i] (the trailing window; shorter at the start).
@@ -92,8 +90,8 @@ struct TracePoint {   // one row of eval/<which>_trace.csv
 
 struct RunFigureData {
   std::string dir;
-  ObservationSet observation = ObservationSet::Paper;  // [task] observation
-  Baseline baseline = Baseline::None;                  // [codesign] baseline
+  core::ObservationSet observation = core::ObservationSet::Paper;  // [task] observation
+  core::Baseline baseline = core::Baseline::None;                  // [codesign] baseline
   double target_force_mN = 20, tolerance_fraction = 0.2;
   double exploration_end = 0, exploitation_start = 0;   // T1, T2
   std::vector<SampleRow> samples;
@@ -154,5 +152,15 @@ PreparedFigures prepare_figures(const FigureOptions& options);
 // <name>.png when gnuplot succeeds. A missing gnuplot or a failing script is reported in the
 // outcome (gnuplot_missing, drawn=false, message), not thrown.
 FiguresReport make_figures(const FigureOptions& options);
+
+// `codesign figures`: make_figures under the run folder's lock (run.hpp, lock_run_folder), a line
+// per figure on stdout. Returns 0 when every figure the data allows was drawn, 1 when gnuplot is
+// missing or a script failed (the data files are written all the same).
+int figures_of_run(const FigureOptions& options);
+
+// The end of `codesign run` (under the run's own lock): the figures with default options from
+// the scripts in `plots_dir`; any problem is a warning on stderr, never an error. False when a
+// figure was not drawn.
+bool draw_run_figures(const std::string& run_dir, const std::string& plots_dir);
 
 }  // namespace codesign::run

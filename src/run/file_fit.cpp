@@ -10,6 +10,8 @@
 
 namespace codesign::run {
 
+using namespace core;  // this file works on the co-design core's types (src/codesign)
+
 std::string sizes_text(const std::vector<int>& v) {
   std::string s = "[";
   for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + std::to_string(v[i]);
@@ -80,6 +82,18 @@ Checkpoint load_fitting_checkpoint(const std::string& file, const RunConfig& s, 
                      sizes(c.loop.actor.size(), c.loop.critic.size(), c.loop.actor_gru.size(), c.loop.critic_gru.size()) +
                      ") differ from " + config_file + "'s (" + sizes(actor, critic, actor_gru, critic_gru) + ")");
   return c;
+}
+
+void check_whisker_mesh(const fem::TetMesh& m, const std::string& file) {
+  const char* need = "; a whisker mesh needs triangles in the physical surfaces \"base\" (clamped), \"tip\" and "
+                     "\"chamber_1\" (and \"chamber_2\" for two chambers)";
+  if (m.base_faces.empty()) throw InputError(file + ": physical group \"base\": no triangles" + need);
+  if (m.tip_faces.empty()) throw InputError(file + ": physical group \"tip\": no triangles" + need);
+  if (m.chamber_faces.empty() || m.chamber_faces[0].empty())
+    throw InputError(file + ": physical group \"chamber_1\": no triangles" + need);
+  if (m.chamber_faces.size() > 2)
+    throw InputError(file + ": physical group \"chamber_" + std::to_string(m.chamber_faces.size()) +
+                     "\": at most 2 chambers (chamber_1, chamber_2) are allowed");
 }
 
 }  // namespace codesign::run

@@ -35,6 +35,8 @@
 
 namespace codesign::run {
 
+using namespace core;  // this file works on the co-design core's types (src/codesign)
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -69,16 +71,16 @@ struct Logs {
   }
   Logs(const fs::path& dir, const std::map<std::string, std::uint64_t>* resume, bool target_entropy) {
     const std::vector<std::pair<std::string, std::vector<std::string>>> logs{
-        {"episodes.csv",
+        {run_file::kEpisodes,
          {"t", "k", "j", "n", "l_mm", "w_mm", "p1_kPa", "p2_kPa", "phase_rad", "return", "decisions", "in_band",
           "first", "reason"}},
-        {"ppo.csv",
+        {run_file::kPpo,
          {"k", "t", "pg_loss", "value_loss", "entropy_loss", "loss", "approx_kl", "clip_fraction",
           "explained_variance", "lr", "ent_coef", "epochs", "early_stopped", "grad_norm", "collect_s", "update_s",
           "policy_s", "steps_per_s"}},
-        {"distribution.csv", distribution_columns(target_entropy)},
-        {"q_disc.csv", q_columns()},
-        {"sampled.csv",
+        {run_file::kDistribution, distribution_columns(target_entropy)},
+        {run_file::kQDisc, q_columns()},
+        {run_file::kSampled,
          {"k", "t", "i", "j", "p1_kPa", "p2_kPa", "return", "mu1_kPa", "mu2_kPa", "sigma1_kPa", "sigma2_kPa"}}};
     // A resume cuts the logs back to the checkpoint only once all of them fit it: a resume that
     // fails leaves every file as it was.
@@ -102,11 +104,11 @@ struct Logs {
   }
 
   std::map<std::string, std::uint64_t> flush() {
-    return {{"episodes.csv", episodes->flush()},
-            {"ppo.csv", ppo->flush()},
-            {"distribution.csv", distribution->flush()},
-            {"q_disc.csv", q->flush()},
-            {"sampled.csv", sampled->flush()}};
+    return {{run_file::kEpisodes, episodes->flush()},
+            {run_file::kPpo, ppo->flush()},
+            {run_file::kDistribution, distribution->flush()},
+            {run_file::kQDisc, q->flush()},
+            {run_file::kSampled, sampled->flush()}};
   }
 
   std::unique_ptr<CsvLog> episodes, ppo, distribution, q, sampled;
@@ -280,6 +282,140 @@ void publish_trace(io::Telemetry& tel, const DesignEvaluation& e, std::int64_t t
   for (const TraceRow& r : e.trace) tel.publish(sim_step_message(e.setup, r, t));
 }
 
+// Makes DIR ready for the run, before any simulator is built: on --resume the checkpoint to
+// continue from (none when the run stopped before its first one and DIR/config.toml is this
+// config: it then starts again); otherwise DIR refused if it holds an earlier run (unless
+// --force), created, and its config files written, results of an earlier run removed.
+std::optional<Checkpoint> prepare_run_folder(const RunSettings& settings, const RunOptions& options,
+                                             const std::string& resolved, std::uint64_t fp) {
+  const fs::path dir(options.dir);
+  const fs::path ckpt_path = dir / run_file::kCheckpoint;
+  std::optional<Checkpoint> ckpt;
+  std::error_code ec;
+  bool fresh = !options.resume;
+  if (options.resume) {
+    if (fs::exists(ckpt_path, ec)) {
+      ckpt = load_checkpoint(ckpt_path.string(), fp);
+    } else {
+      // Stopped before its first checkpoint: nothing to keep, so start this run's config again.
+      std::ifstream in(dir / run_file::kConfig, std::ios::binary);
+      std::ostringstream text;
+      text << in.rdbuf();
+      if (!in || text.str() != resolved)
+        throw InputError(dir.string() + ": no checkpoint.bin (and no config.toml of this config) to resume from; "
+                         "start the run without --resume");
+      fresh = true;
+    }
+  }
+  if (fresh && !options.resume) {
+    for (const char* f : {run_file::kConfig, run_file::kCheckpoint, run_file::kResult, run_file::kEpisodes})
+      if (fs::exists(dir / f, ec) && !options.force)
+        throw InputError(dir.string() + ": already holds " + f + " of an earlier run; continue it with --resume, "
+                         "or choose another -o, or pass --force to start afresh");
+    fs::create_directories(dir, ec);
+    if (ec) throw InputError(dir.string() + ": cannot create the run folder: " + ec.message());
+  }
+  if (fresh) {
+    for (const char* f : {run_file::kCheckpoint, run_file::kResult, run_file::kPolicy}) fs::remove(dir / f, ec);
+    for (const KeptCheckpoint& kc : kept_checkpoints(settings.loop.codesign)) fs::remove(dir / kc.file, ec);
+    io::write_file_atomically((dir / run_file::kConfig).string(), [&](std::ostream& out) { out << resolved; });
+    if (!options.resume)
+      io::write_file_atomically((dir / run_file::kConfigInput).string(),
+                                [&](std::ostream& out) { out << settings.config_text; });
+  }
+
+  return ckpt;
+}
+
+// The training-time telemetry: the state after every telemetry_train_every-th decision of training
+// environment 0 on its own channel and, with the recurrent policy, its memory in that environment
+// after every decision; both stamped with the run's timestep at the start of the iteration they
+// belong to (iteration_start_t), their cost counted in `meter`.
+void observe_training(OuterLoop& loop, io::Telemetry& telemetry, const RunOptions& options,
+                      std::atomic<std::int64_t>& iteration_start_t, PublishMeter& meter) {
+  if (!telemetry.enabled()) return;
+  if (options.telemetry_train_every > 0) {
+    io::Telemetry& tel = telemetry;
+    loop.envs().set_step_observer(
+        0,
+        [&tel, &iteration_start_t, &meter](const EpisodeSetup& s, const TraceRow& r) {
+          const PublishMeter::Scope timed(meter, 1);
+          tel.publish_training(sim_step_message(s, r, iteration_start_t.load(std::memory_order_relaxed)));
+        },
+        options.telemetry_train_every);
+  }
+  if (loop.recurrent_model()) {
+    io::Telemetry& tel = telemetry;
+    loop.set_memory_observer([&tel, &iteration_start_t, &meter](int decision, int design, const Eigen::VectorXf& a,
+                                                                const Eigen::VectorXf& c) {
+      const PublishMeter::Scope timed(meter, 1);
+      codesign_lcm::policy_memory_t m{};
+      m.timestep = iteration_start_t.load(std::memory_order_relaxed);
+      m.decision = decision;
+      m.design = design;
+      m.units = static_cast<std::int32_t>(a.size());
+      m.actor_h.assign(a.data(), a.data() + a.size());
+      m.critic_h.assign(c.data(), c.data() + c.size());
+      m.actor_norm = a.cast<double>().norm();
+      m.critic_norm = c.cast<double>().norm();
+      tel.publish(m);
+    });
+  }
+}
+
+// What the final evaluation tests: d* at p* (the single design of that baseline; else the leading
+// design at its collapsed optimum, or at its mean pressures if the distribution never
+// collapsed) and the runner-up at its mean pressures (none for the single-design baseline).
+struct FinalDesigns {
+  EpisodeSetup best;
+  std::optional<EpisodeSetup> runner;
+};
+FinalDesigns final_designs(const DesignDistribution& dist, const CodesignConfig& c) {
+  FinalDesigns f;
+  if (c.baseline == Baseline::SingleDesign) {
+    const DesignSample d = single_design(c);
+    f.best = {d.design, d.pressures_kPa[0], d.pressures_kPa[1], 0.0, 0.0};
+    return f;
+  }
+  const std::vector<int> rank = dist.ranking();
+  const int jb = dist.leading_design();
+  const Eigen::Vector2d pb = dist.state().collapsed ? dist.pressures_kPa(dist.state().best_latent, jb)
+                                                    : dist.mean_pressures_kPa(jb);
+  f.best = {jb, pb[0], pb[1], 0.0, 0.0};
+  const int jr = rank[0] == jb ? rank[1] : rank[0];
+  const Eigen::Vector2d pr = dist.mean_pressures_kPa(jr);
+  f.runner = EpisodeSetup{jr, pr[0], pr[1], 0.0, 0.0};
+  return f;
+}
+
+// The run's closing lines on stdout: d* and its test, the fixed-angle reference, the runner-up,
+// numerical failures, where result.toml is.
+void print_result(const fs::path& dir, const ResultFile& rr, const DesignEvaluation& eb,
+                  const std::optional<FixedThetaTuning>& fixed, const std::optional<DesignEvaluation>& er) {
+  const EpisodeSetup& best = eb.setup;
+  const std::int64_t numerical = rr.run.numerical_failures;
+  const double wall_total = rr.run.wall_s;
+  const int eval_episodes = rr.eval_episodes;
+  std::printf("codesign: d* = %s, p* = [%.4g, %.4g] kPa: test return %.2f +- %.2f over %d episodes (band %.0f%%)\n",
+              design_label(best.design).c_str(), best.p1_kPa, best.p2_kPa, eb.mean_return, eb.std_return,
+              eval_episodes, 100.0 * eb.mean_band_fraction);
+  if (fixed)
+    std::printf("codesign: d* with the base held at its best fixed angle %.2f deg (no controller): test return %.2f +- %.2f "
+                "(band %.0f%%); the policy %s it by %.2f\n",
+                fixed->theta0_rad * 180.0 / std::numbers::pi, fixed->test.mean_return, fixed->test.std_return,
+                100.0 * fixed->test.mean_band_fraction, eb.mean_return > fixed->test.mean_return ? "beats" : "trails",
+                std::abs(eb.mean_return - fixed->test.mean_return));
+  if (er)
+    std::printf("codesign: runner-up %s, p = [%.4g, %.4g] kPa: test return %.2f +- %.2f (band %.0f%%)\n",
+                design_label(er->setup.design).c_str(), er->setup.p1_kPa, er->setup.p2_kPa, er->mean_return, er->std_return,
+                100.0 * er->mean_band_fraction);
+  if (numerical > 0)
+    std::printf("codesign: %lld training episodes ended by a numerical failure (episodes.csv reason \"numerical: ...\")\n",
+                static_cast<long long>(numerical));
+  std::printf("codesign: %lld timesteps in %s -> %s\n", static_cast<long long>(rr.run.timesteps),
+              duration_text(wall_total).c_str(), (dir / run_file::kResult).string().c_str());
+}
+
 }  // namespace
 
 std::unique_ptr<io::RunLock> lock_run_folder(const std::string& dir, bool only_if_exists) {
@@ -311,7 +447,7 @@ int stop_after_run(const std::string& dir, bool frames_left, bool figures_left) 
   std::string what, how;
   if (frames_left) {
     what = "its frames";
-    how = "`codesign render --run " + dir + " -o " + (fs::path(dir) / "frames" / "best").string() + "`";
+    how = "`codesign render --run " + dir + " -o " + (fs::path(dir) / run_file::kFramesDir / "best").string() + "`";
   }
   if (figures_left) {
     what += what.empty() ? "its figures" : " and figures";
@@ -322,50 +458,27 @@ int stop_after_run(const std::string& dir, bool frames_left, bool figures_left) 
   return 128 + sig;
 }
 
+RunSettings run_settings(const RunConfig& c, std::string config_text) {
+  RunSettings s;
+  s.spec = c.spec;
+  s.scene = c.scene;
+  s.solver = c.solver;
+  s.loop = {c.task, c.codesign, c.ppo};
+  s.config_text = std::move(config_text);
+  return s;
+}
+
 RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();
   const fs::path dir(options.dir);
   // Taken before anything in DIR is looked at: a refused run reads and changes nothing.
   const std::unique_ptr<io::RunLock> own_lock = options.lock ? nullptr : lock_run_folder(options.dir, options.resume);
-  const fs::path ckpt_path = dir / "checkpoint.bin";
+  const fs::path ckpt_path = dir / run_file::kCheckpoint;
   // The resolved config (every key with the value used) is what the run folder keeps and what
   // checkpoints are tied to: resuming with the original file or with DIR/config.toml both match.
   const std::string resolved = resolved_run_config(settings.spec, settings.scene, settings.solver, settings.loop);
   const std::uint64_t fp = fingerprint(resolved);
-  std::optional<Checkpoint> ckpt;
-  std::error_code ec;
-  bool fresh = !options.resume;
-  if (options.resume) {
-    if (fs::exists(ckpt_path, ec)) {
-      ckpt = load_checkpoint(ckpt_path.string(), fp);
-    } else {
-      // Stopped before its first checkpoint: nothing to keep, so start this run's config again.
-      std::ifstream in(dir / "config.toml", std::ios::binary);
-      std::ostringstream text;
-      text << in.rdbuf();
-      if (!in || text.str() != resolved)
-        throw InputError(dir.string() + ": no checkpoint.bin (and no config.toml of this config) to resume from; "
-                         "start the run without --resume");
-      fresh = true;
-    }
-  }
-  if (fresh && !options.resume) {
-    for (const char* f : {"config.toml", "checkpoint.bin", "result.toml", "episodes.csv"})
-      if (fs::exists(dir / f, ec) && !options.force)
-        throw InputError(dir.string() + ": already holds " + f + " of an earlier run; continue it with --resume, "
-                         "or choose another -o, or pass --force to start afresh");
-    fs::create_directories(dir, ec);
-    if (ec) throw InputError(dir.string() + ": cannot create the run folder: " + ec.message());
-  }
-  if (fresh) {
-    for (const char* f : {"checkpoint.bin", "result.toml", "policy.bin"}) fs::remove(dir / f, ec);
-    for (const KeptCheckpoint& kc : kept_checkpoints(settings.loop.codesign)) fs::remove(dir / kc.file, ec);
-    io::write_file_atomically((dir / "config.toml").string(), [&](std::ostream& out) { out << resolved; });
-    if (!options.resume)
-      io::write_file_atomically((dir / "config.input.toml").string(),
-                                [&](std::ostream& out) { out << settings.config_text; });
-  }
-
+  const std::optional<Checkpoint> ckpt = prepare_run_folder(settings, options, resolved, fp);
   auto sims = std::make_shared<SimulatorPool>(settings.spec, settings.scene, settings.solver);
   const LoopConfig& lc = settings.loop;
   auto envs = std::make_unique<ThreadEnvPool>(sims, lc.task, static_cast<std::size_t>(lc.codesign.designs_per_update),
@@ -382,40 +495,12 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   }
   Logs logs(dir, ckpt ? &ckpt->logs : nullptr, lc.codesign.distribution.beta_schedule == BetaSchedule::Entropy);
   // Training episodes ended by a numerical failure so far (episodes.csv holds those before a resume).
-  std::int64_t numerical = count_numerical_failures((dir / "episodes.csv").string());
+  std::int64_t numerical = count_numerical_failures((dir / run_file::kEpisodes).string());
   const std::unique_ptr<io::Telemetry> telemetry = io::make_telemetry(options.telemetry_url);
-  // The state after every telemetry_train_every-th decision of training environment 0, on its own
-  // channel, stamped with the run's timestep at the start of the iteration it belongs to.
+  // The run's timestep at the start of the current iteration, for the training-time telemetry.
   std::atomic<std::int64_t> iteration_start_t{loop.timesteps()};
   PublishMeter meter;
-  if (telemetry->enabled() && options.telemetry_train_every > 0) {
-    io::Telemetry& tel = *telemetry;
-    loop.envs().set_step_observer(
-        0,
-        [&tel, &iteration_start_t, &meter](const EpisodeSetup& s, const TraceRow& r) {
-          const PublishMeter::Scope timed(meter, 1);
-          tel.publish_training(sim_step_message(s, r, iteration_start_t.load(std::memory_order_relaxed)));
-        },
-        options.telemetry_train_every);
-  }
-  // With the recurrent policy, its memory in training environment 0 after every decision.
-  if (telemetry->enabled() && loop.recurrent_model()) {
-    io::Telemetry& tel = *telemetry;
-    loop.set_memory_observer([&tel, &iteration_start_t, &meter](int decision, int design, const Eigen::VectorXf& a,
-                                                                const Eigen::VectorXf& c) {
-      const PublishMeter::Scope timed(meter, 1);
-      codesign_lcm::policy_memory_t m{};
-      m.timestep = iteration_start_t.load(std::memory_order_relaxed);
-      m.decision = decision;
-      m.design = design;
-      m.units = static_cast<std::int32_t>(a.size());
-      m.actor_h.assign(a.data(), a.data() + a.size());
-      m.critic_h.assign(c.data(), c.data() + c.size());
-      m.actor_norm = a.cast<double>().norm();
-      m.critic_norm = c.cast<double>().norm();
-      tel.publish(m);
-    });
-  }
+  observe_training(loop, *telemetry, options, iteration_start_t, meter);
   auto report_telemetry = [&](RunResult& r) {
     r.telemetry_messages = meter.messages.load();
     r.telemetry_s = 1e-9 * static_cast<double>(meter.ns.load());
@@ -448,7 +533,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     std::fprintf(stderr, "codesign: %s: %s; checkpoint.bin holds t = %lld of %lld; continue with: "
                  "codesign --config %s -o %s --resume\n",
                  signal_name(sig).c_str(), where.c_str(), static_cast<long long>(loop.timesteps()),
-                 static_cast<long long>(T), (dir / "config.toml").string().c_str(), dir.string().c_str());
+                 static_cast<long long>(T), (dir / run_file::kConfig).string().c_str(), dir.string().c_str());
     result.stop_signal = sig;
     result.timesteps = loop.timesteps();
     result.wall_s = elapsed();
@@ -513,22 +598,8 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
 
   // ---- final evaluation: d* and the runner-up with the deterministic final policy
   const DesignDistribution& dist = loop.distribution();
-  EpisodeSetup best, runner;
-  bool has_runner = true;
-  if (c.baseline == Baseline::SingleDesign) {
-    const DesignSample d = single_design(c);
-    best = {d.design, d.pressures_kPa[0], d.pressures_kPa[1], 0.0, 0.0};
-    has_runner = false;
-  } else {
-    const std::vector<int> rank = dist.ranking();
-    const int jb = dist.leading_design();
-    const Eigen::Vector2d pb = dist.state().collapsed ? dist.pressures_kPa(dist.state().best_latent, jb)
-                                                      : dist.mean_pressures_kPa(jb);
-    best = {jb, pb[0], pb[1], 0.0, 0.0};
-    const int jr = rank[0] == jb ? rank[1] : rank[0];
-    const Eigen::Vector2d pr = dist.mean_pressures_kPa(jr);
-    runner = {jr, pr[0], pr[1], 0.0, 0.0};
-  }
+  const FinalDesigns finals = final_designs(dist, c);
+  const EpisodeSetup& best = finals.best;
   // The final policy as policy.bin will hold it: the model and its frozen observation
   // normalisation, acting as every later reader of the file acts (rl::Policy).
   // One controller per episode: a recurrent policy's state starts at zero in each.
@@ -545,8 +616,8 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   }
   if (const int sig = stop_signal(); sig != 0) return stopped(sig, in_evaluation);
   std::optional<DesignEvaluation> er;
-  if (has_runner) {
-    er = evaluate_feedback(policy, sims, lc.task, runner, eo);
+  if (finals.runner) {
+    er = evaluate_feedback(policy, sims, lc.task, *finals.runner, eo);
     write_evaluation(dir / run_file::kEvalDir, "runner_up", *er);
     if (telemetry->enabled()) {
       const PublishMeter::Scope timed(meter, static_cast<std::int64_t>(er->trace.size()));
@@ -561,7 +632,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
                              options.threads);
     if (const int sig = stop_signal(); sig != 0) return stopped(sig, in_evaluation);
   }
-  rl::save_policy(dir / "policy.bin", final_policy->contents());
+  rl::save_policy(dir / run_file::kPolicy, final_policy->contents());
   result.wall_s = elapsed();
   const double wall_total = wall_before + result.wall_s;
   ResultFile rr;
@@ -579,24 +650,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   rr.run.numerical_failures = numerical;
   rr.run.wall_s = wall_total;
   write_result(dir, rr);
-  std::printf("codesign: d* = %s, p* = [%.4g, %.4g] kPa: test return %.2f +- %.2f over %d episodes (band %.0f%%)\n",
-              design_label(best.design).c_str(), best.p1_kPa, best.p2_kPa, eb.mean_return, eb.std_return,
-              c.eval_episodes, 100.0 * eb.mean_band_fraction);
-  if (fixed)
-    std::printf("codesign: d* with the base held at its best fixed angle %.2f deg (no controller): test return %.2f +- %.2f "
-                "(band %.0f%%); the policy %s it by %.2f\n",
-                fixed->theta0_rad * 180.0 / std::numbers::pi, fixed->test.mean_return, fixed->test.std_return,
-                100.0 * fixed->test.mean_band_fraction, eb.mean_return > fixed->test.mean_return ? "beats" : "trails",
-                std::abs(eb.mean_return - fixed->test.mean_return));
-  if (er)
-    std::printf("codesign: runner-up %s, p = [%.4g, %.4g] kPa: test return %.2f +- %.2f (band %.0f%%)\n",
-                design_label(runner.design).c_str(), runner.p1_kPa, runner.p2_kPa, er->mean_return, er->std_return,
-                100.0 * er->mean_band_fraction);
-  if (numerical > 0)
-    std::printf("codesign: %lld training episodes ended by a numerical failure (episodes.csv reason \"numerical: ...\")\n",
-                static_cast<long long>(numerical));
-  std::printf("codesign: %lld timesteps in %s -> %s\n", static_cast<long long>(loop.timesteps()),
-              duration_text(wall_total).c_str(), (dir / "result.toml").string().c_str());
+  print_result(dir, rr, eb, fixed, er);
   result.completed = true;
   result.timesteps = loop.timesteps();
   report_telemetry(result);

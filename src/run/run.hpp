@@ -34,6 +34,7 @@
 #include "codesign/outer_loop.hpp"
 #include "fem/simulator.hpp"
 #include "fem/whisker_model.hpp"
+#include "run/run_config.hpp"
 
 namespace codesign::io {
 class RunLock;
@@ -41,15 +42,15 @@ class RunLock;
 
 namespace codesign::run {
 
-using namespace coopt;  // the run layer works on the co-design core's types (src/codesign)
-
 struct RunSettings {
   fem::WhiskerModelSpec spec;
   fem::SceneConfig scene;
   fem::SolverConfig solver;
-  LoopConfig loop;
+  core::LoopConfig loop;
   std::string config_text;   // the config file's text (copied to config.input.toml)
 };
+// The settings of a run of `config` (its simulator tables and its [task], [codesign], [ppo]).
+RunSettings run_settings(const RunConfig& config, std::string config_text = {});
 
 struct RunOptions {
   std::string dir;

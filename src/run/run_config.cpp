@@ -6,6 +6,8 @@
 
 namespace codesign::run {
 
+using namespace core;  // this file works on the co-design core's types (src/codesign)
+
 RunConfig read_run_config(const std::string& config_path) {
   io::TableReader root = config_path.empty() ? io::TableReader::from_string("", "(defaults)")
                                              : io::TableReader::from_file(config_path);

@@ -20,18 +20,16 @@
 
 namespace codesign::run {
 
-using namespace coopt;  // the run layer works on the co-design core's types (src/codesign)
-
 struct RunConfig {
   fem::WhiskerModelSpec spec;
   fem::SceneConfig scene;
   fem::SolverConfig solver;
   io::SimScenario scenario;
-  TaskConfig task;          // [task]
-  CodesignConfig codesign;  // [codesign]
+  core::TaskConfig task;          // [task]
+  core::CodesignConfig codesign;  // [codesign]
   rl::PpoConfig ppo;               // [ppo] over the paper's settings (rl::paper_ppo_config)
-  PidTuningConfig pid;      // [pid]: PID baseline tuning
-  SweepConfig sweep;        // [sweep]: the design landscape
+  core::PidTuningConfig pid;      // [pid]: PID baseline tuning
+  core::SweepConfig sweep;        // [sweep]: the design landscape
   std::string telemetry_url;       // [telemetry] url: LCM URL, "" = off
   int telemetry_train_every = 2;   // [telemetry] train_decision_every: every N-th decision of training env 0 (0 = none)
   io::RenderConfig render;         // [render]: PNG frames (docs/rendering.md)

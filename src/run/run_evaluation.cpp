@@ -24,8 +24,12 @@
 #include "io/run_lock.hpp"
 #include "run/checkpoint.hpp"
 #include "run/codesign_tables_writer.hpp"
+#include "run/run_config.hpp"
+#include "run/run_folder.hpp"
 
 namespace codesign::run {
+
+using namespace core;  // this file works on the co-design core's types (src/codesign)
 
 namespace {
 
@@ -97,7 +101,7 @@ std::string draw_ranking(const fs::path& folder, const std::string& plots_dir, c
 }  // namespace
 
 std::string checkpoint_file_of(const std::string& at) {
-  if (at == "final") return "checkpoint.bin";
+  if (at == "final") return run_file::kCheckpoint;
   for (const KeptCheckpoint& k : kept_checkpoints(CodesignConfig{}))
     if (k.name == at) return k.file;
   throw InputError("--at: '" + at + "' is not one of final, t1, t2");
@@ -142,7 +146,7 @@ RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluati
   const Eigen::VectorXd q = dist.probabilities(t);
 
   RunEvaluationSummary summary;
-  const fs::path folder = dir / "evaluate" / options.at;
+  const fs::path folder = dir / run_file::kEvaluateDir / options.at;
   summary.folder = folder.string();
   summary.t = t;
   summary.leading_design = dist.leading_design();
@@ -256,5 +260,43 @@ RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluati
   summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   return summary;
 }
+
+void evaluate_run_folder(const RunEvaluationOptions& eo) {
+  const fs::path dir(eo.dir);
+  if (!fs::exists(dir / run_file::kConfig))
+    throw InputError(dir.string() + ": has no config.toml; evaluate needs a co-design run folder");
+  checkpoint_file_of(eo.at);  // a bad --at before the config is read
+  const RunConfig setup = read_run_config((dir / run_file::kConfig).string());
+  const RunSettings s = run_settings(setup);
+  std::printf("evaluate: %s at %s: designs %d..%d, %d plate phases each\n", eo.dir.c_str(), eo.at.c_str(),
+              eo.first_design, eo.last_design, eo.phases > 0 ? eo.phases : setup.codesign.eval_episodes);
+  std::fflush(stdout);
+  const RunEvaluationSummary r = evaluate_run(s, eo);
+  const auto find = [&](int j) {
+    return std::find_if(r.ranking.begin(), r.ranking.end(), [j](const RunEvaluationRow& x) { return x.design == j; });
+  };
+  std::printf("evaluate: t = %lld; %d designs run now, %d before; this call took %s\n", static_cast<long long>(r.t),
+              r.designs_run, r.designs_before, duration_text(r.wall_s).c_str());
+  std::printf("evaluate: top %zu by test return (mean +- 95 %% interval over the phases):\n",
+              std::min<std::size_t>(10, r.ranking.size()));
+  for (std::size_t i = 0; i < std::min<std::size_t>(10, r.ranking.size()); ++i) {
+    const RunEvaluationRow& x = r.ranking[i];
+    std::printf("  %3d  %-24s p=[%.4g, %.4g] kPa  %6.2f +- %.2f  q %.4f%s%s\n", x.rank,
+                fem::design_label(x.design).c_str(), x.p1_kPa, x.p2_kPa, x.mean_return, x.ci95, x.q,
+                x.role.empty() ? "" : "  ", x.role.c_str());
+  }
+  for (const auto& [j, role] : {std::pair{r.leading_design, "d* (leading design)"}, std::pair{r.runner_up, "runner-up"}}) {
+    const auto it = find(j);
+    if (j < 0) continue;
+    if (it == r.ranking.end())
+      std::printf("evaluate: %s %s is outside the evaluated range\n", role, fem::design_label(j).c_str());
+    else
+      std::printf("evaluate: %s %s ranks %d of %zu: %.2f +- %.2f\n", role, fem::design_label(j).c_str(), it->rank,
+                  r.ranking.size(), it->mean_return, it->ci95);
+  }
+  std::printf("evaluate: wrote %s/ranking.csv%s\n", r.folder.c_str(), r.figure ? " and ranking.png" : "");
+  if (!r.figure) std::printf("evaluate: warning: no ranking.png: %s\n", r.figure_message.c_str());
+}
+
 
 }  // namespace codesign::run

@@ -34,8 +34,6 @@
 
 namespace codesign::run {
 
-using namespace coopt;  // the run layer works on the co-design core's types (src/codesign)
-
 struct RunEvaluationOptions {
   std::string dir;               // the run folder
   std::string at = "final";      // "final", "t1" or "t2"
@@ -78,6 +76,10 @@ struct RunEvaluationSummary {
 // checkpoint of another config, an `at` other than final/t1/t2, a design range outside 0..109 or
 // reversed, phases < 2, a folder that holds an evaluation with other settings (without force).
 RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluationOptions& options);
+
+// `codesign evaluate`: reads DIR/config.toml (InputError if it is missing), evaluate_run, and
+// prints the ten best designs and where d* and the runner-up rank.
+void evaluate_run_folder(const RunEvaluationOptions& options);
 
 // The checkpoint file of `at` in a run folder ("final" -> checkpoint.bin); InputError otherwise.
 std::string checkpoint_file_of(const std::string& at);

@@ -12,6 +12,8 @@
 
 namespace codesign::run {
 
+using namespace core;  // this file works on the co-design core's types (src/codesign)
+
 namespace fs = std::filesystem;
 
 namespace {

@@ -15,25 +15,36 @@
 
 namespace codesign::run {
 
-using namespace coopt;  // the run layer works on the co-design core's types (src/codesign)
-
-// File names of a run folder (the ones more than one module opens).
+// The names of a run folder's files and folders (docs/codesign.md, "The run folder"): every
+// module of the run layer opens them by these names.
 namespace run_file {
+inline constexpr const char* kConfig = "config.toml";             // the resolved config
+inline constexpr const char* kConfigInput = "config.input.toml";  // the config file as given
+inline constexpr const char* kCheckpoint = "checkpoint.bin";      // the latest state
+inline constexpr const char* kCheckpointT1 = "checkpoint_t1.bin"; // the state kept at T1
+inline constexpr const char* kCheckpointT2 = "checkpoint_t2.bin"; // the state kept at T2
+inline constexpr const char* kEpisodes = "episodes.csv";          // the logs, a row per ...
+inline constexpr const char* kPpo = "ppo.csv";                    //   PPO update
+inline constexpr const char* kDistribution = "distribution.csv";  //   distribution update
+inline constexpr const char* kQDisc = "q_disc.csv";               //   update, q_disc of every design
+inline constexpr const char* kSampled = "sampled.csv";            //   sampled design
 inline constexpr const char* kResult = "result.toml";
 inline constexpr const char* kPolicy = "policy.bin";
-inline constexpr const char* kConfig = "config.toml";
-inline constexpr const char* kEvalDir = "eval";
+inline constexpr const char* kEvalDir = "eval";             // <which>.csv, <which>_trace.csv
+inline constexpr const char* kFramesDir = "frames";         // frames/<which>/frame_NNNN.png
+inline constexpr const char* kFiguresDir = "figures";       // figures/*.png, figures/data/
+inline constexpr const char* kEvaluateDir = "evaluate";     // evaluate/<at>/ of `codesign evaluate`
 }  // namespace run_file
 
 // One evaluated design of result.toml: [best] (d* at p*) or [runner_up].
 struct ResultDesign {
-  EpisodeSetup setup;  // design, p1_kPa, p2_kPa (the plate phase is not stored)
+  core::EpisodeSetup setup;  // design, p1_kPa, p2_kPa (the plate phase is not stored)
   double test_return = 0.0;      // mean over the test episodes
   double test_return_std = 0.0;
   int test_episodes = 0;
   double band_fraction = 0.0;    // decisions with F inside the band
 };
-ResultDesign result_design(const DesignEvaluation& e);
+ResultDesign result_design(const core::DesignEvaluation& e);
 
 // [best_fixed_theta]: d* at p* with the base held at its best constant angle.
 struct ResultFixedTheta {
@@ -72,13 +83,13 @@ std::optional<ResultDesign> read_result_design(const std::filesystem::path& run_
                                                double pressure_max_kPa = 1e3);
 
 // Appends (or replaces) the [refined] table of DIR/result.toml, keeping the rest of its text.
-void write_refined_result(const std::filesystem::path& run_dir, const RefineResult& r);
+void write_refined_result(const std::filesystem::path& run_dir, const core::RefineResult& r);
 
 // DIR/<which>.csv (one row per test episode: phase, return, decisions, band fraction, end
 // reason) and DIR/<which>_trace.csv (the first test episode decision by decision: time, θ, F,
 // strain, tip position, plate height, action; with an estimator also F̂(ε, θ) as F_hat_mN).
 // DIR is the run folder's eval/ folder; it is created when missing.
-void write_evaluation(const std::filesystem::path& dir, const std::string& which, const DesignEvaluation& e,
-                      const ForceEstimator* estimator = nullptr);
+void write_evaluation(const std::filesystem::path& dir, const std::string& which, const core::DesignEvaluation& e,
+                      const core::ForceEstimator* estimator = nullptr);
 
 }  // namespace codesign::run

@@ -4,7 +4,7 @@
 
 #include "fem/mesh_quality.hpp"
 #include "io/msh.hpp"
-#include "../fem/test_util.hpp"
+#include "test_util.hpp"
 #include "run_binary.hpp"
 
 using namespace codesign;

@@ -17,7 +17,7 @@
 #include "codesign/codesign_config.hpp"
 #include "codesign/design_distribution.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 namespace {
 
 constexpr double kRootSlack = 1e-14;
@@ -256,4 +256,4 @@ TEST(BetaSchedule, RestoredDistributionGivesTheSameBeta) {
 }
 
 }  // namespace
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -16,7 +16,7 @@
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
-namespace codesign::coopt {
+namespace codesign::core {
 namespace {
 
 constexpr double kRel = 1e-12;
@@ -689,4 +689,4 @@ TEST(DesignDistributionRestore, RejectsStatesThatDoNotFit) {
 }
 
 }  // namespace
-}  // namespace codesign::coopt
+}  // namespace codesign::core

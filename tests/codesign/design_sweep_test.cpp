@@ -12,7 +12,7 @@
 #include "codesign/design_sweep.hpp"
 #include "test_files.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 namespace {
 
 namespace fs = std::filesystem;
@@ -200,4 +200,4 @@ TEST(DesignSweep, RestartSkipsFinishedRowsAndRefusesAnotherConfig) {
 }
 
 }  // namespace
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -10,13 +10,13 @@
 namespace {
 
 using namespace codesign;
-using coopt::EpisodeSetup;
-using coopt::TraceRow;
+using core::EpisodeSetup;
+using core::TraceRow;
 
 TEST(ThreadEnvPool, StepObserverSeesTheEndOfEveryNthDecision) {
-  auto sims = std::make_shared<coopt::SimulatorPool>(fem::WhiskerModelSpec{}, fem::SceneConfig{}, fem::SolverConfig{});
-  const coopt::TaskConfig task;
-  coopt::ThreadEnvPool pool(sims, task, 2, 1);
+  auto sims = std::make_shared<core::SimulatorPool>(fem::WhiskerModelSpec{}, fem::SceneConfig{}, fem::SolverConfig{});
+  const core::TaskConfig task;
+  core::ThreadEnvPool pool(sims, task, 2, 1);
   std::vector<TraceRow> seen;
   std::vector<int> designs;
   pool.set_step_observer(
@@ -35,7 +35,7 @@ TEST(ThreadEnvPool, StepObserverSeesTheEndOfEveryNthDecision) {
 
   // The same episode on its own, recorded: row 0 is the settled state, then action_hold_steps
   // rows per decision, so decision d (1-based) ends at row d * hold.
-  coopt::WhiskerEnv env(sims, task);
+  core::WhiskerEnv env(sims, task);
   env.set_recording(true);
   env.set_episode(a);
   env.reset(std::nullopt);

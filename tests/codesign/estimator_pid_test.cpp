@@ -12,7 +12,7 @@
 #include "codesign/pid_tuning.hpp"
 #include "codesign/simulator_pool.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 namespace {
 
 PidTuningConfig short_pi() {
@@ -84,4 +84,4 @@ TEST(EstimatorPid, AFitThatCannotIdentifyTheModelHoldsTheBase) {
 }
 
 }  // namespace
-}  // namespace codesign::coopt
+}  // namespace codesign::core

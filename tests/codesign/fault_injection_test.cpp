@@ -14,13 +14,13 @@
 namespace {
 
 using namespace codesign;
-using coopt::EpisodeSetup;
-using coopt::Fault;
-using coopt::TaskConfig;
-using coopt::WhiskerEnv;
+using core::EpisodeSetup;
+using core::Fault;
+using core::TaskConfig;
+using core::WhiskerEnv;
 
-std::shared_ptr<coopt::SimulatorPool> pool() {
-  static auto p = std::make_shared<coopt::SimulatorPool>(fem::WhiskerModelSpec{}, fem::SceneConfig{}, fem::SolverConfig{});
+std::shared_ptr<core::SimulatorPool> pool() {
+  static auto p = std::make_shared<core::SimulatorPool>(fem::WhiskerModelSpec{}, fem::SceneConfig{}, fem::SolverConfig{});
   return p;
 }
 
@@ -67,7 +67,7 @@ void expect_only_the_faulted_episode_ends(Fault fault, const std::string& status
   const Steps broken = run(env, 5);
   ASSERT_EQ(broken.rewards.size(), 3u) << "ends at decision 2, not before or after: " << broken.reason;
   EXPECT_EQ(broken.reason.rfind("numerical: " + status + ": ", 0), 0u) << broken.reason;
-  EXPECT_TRUE(coopt::is_numerical_failure(broken.reason));
+  EXPECT_TRUE(core::is_numerical_failure(broken.reason));
   for (int k = 0; k < 2; ++k) EXPECT_EQ(broken.rewards[k], reference.rewards[k]) << "decision " << k;
   EXPECT_EQ(broken.rewards[2], 0.0);
   EXPECT_TRUE(broken.obs[2].allFinite());
@@ -89,7 +89,7 @@ TEST(FaultInjection, InvertedElementEndsOnlyItsEpisode) {
 }
 
 TEST(FaultInjection, WhichEpisodesGetAFault) {
-  coopt::FaultConfig f;
+  core::FaultConfig f;
   EXPECT_FALSE(f.enabled());
   EXPECT_EQ(f.fault_for(3, 1, 4), Fault::None);
   f.nan_pressure_every = 3;

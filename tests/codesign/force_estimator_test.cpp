@@ -12,7 +12,7 @@
 
 #include "codesign/force_estimator.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 namespace {
 
 // Magnitudes like the whisker's: ε ~ 4e-4, −4.7e-6 per mN, a few 1e-4 per rad.
@@ -103,4 +103,4 @@ TEST(ForceEstimator, RefusesDegenerateSamples) {
 }
 
 }  // namespace
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -1,4 +1,4 @@
-// coopt::maximise (the NLopt wrapper) on functions with known optima: interior and boundary
+// core::maximise (the NLopt wrapper) on functions with known optima: interior and boundary
 // maxima for every method, bounds respected at every call, the evaluation budget, several starts,
 // fixed coordinates, and clear errors for bad boxes and options.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 
 #include "codesign/nlopt_search.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 namespace {
 
 // Negative squared distance to c: the maximum is c, with value 0.
@@ -185,4 +185,4 @@ TEST(NloptSearch, AnExceptionOfTheObjectivePropagates) {
 }
 
 }  // namespace
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -11,7 +11,7 @@
 #include "codesign/simulator_pool.hpp"
 #include "codesign/whisker_env.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 namespace {
 
 TEST(PidController, StepsByHand) {
@@ -143,4 +143,4 @@ TEST(PidTuning, ForceRisesWithTheBaseAngle) {
 }
 
 }  // namespace
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -7,7 +7,7 @@
 #include "codesign/refine.hpp"
 #include "io/toml_reader.hpp"
 
-namespace codesign::coopt {
+namespace codesign::core {
 namespace {
 
 const char* kResult =
@@ -85,4 +85,4 @@ TEST(Refine, PolishKeepsBoundsAndBudgetAndNeverWorsens) {
 }
 
 }  // namespace
-}  // namespace codesign::coopt
+}  // namespace codesign::core

@@ -14,13 +14,13 @@
 namespace {
 
 using namespace codesign;
-using coopt::EpisodeSetup;
-using coopt::ObservationSet;
-using coopt::TaskConfig;
-using coopt::WhiskerEnv;
+using core::EpisodeSetup;
+using core::ObservationSet;
+using core::TaskConfig;
+using core::WhiskerEnv;
 
-std::shared_ptr<coopt::SimulatorPool> pool() {
-  static auto p = std::make_shared<coopt::SimulatorPool>(fem::WhiskerModelSpec{}, fem::SceneConfig{}, fem::SolverConfig{});
+std::shared_ptr<core::SimulatorPool> pool() {
+  static auto p = std::make_shared<core::SimulatorPool>(fem::WhiskerModelSpec{}, fem::SceneConfig{}, fem::SolverConfig{});
   return p;
 }
 
@@ -44,16 +44,16 @@ std::vector<double> episode(WhiskerEnv& env, const EpisodeSetup& s, double actio
 
 TEST(ForceReward, RaisedCosineByHand) {
   TaskConfig t;  // F_t = 20 mN, band ±20 % = ±4 mN, κ = 1.5
-  EXPECT_DOUBLE_EQ(coopt::force_reward(20.0, t), 1.0);
+  EXPECT_DOUBLE_EQ(core::force_reward(20.0, t), 1.0);
   // δ = 2/4 = 0.5: (½(1 + cos(π/2)))^1.5 = 0.5^1.5 = 0.35355339059327373 (exact arithmetic;
   // 1e-15 covers cos(π/2) ≈ 6e-17 and pow rounding).
-  EXPECT_NEAR(coopt::force_reward(22.0, t), 0.35355339059327373, 1e-15);
-  EXPECT_NEAR(coopt::force_reward(18.0, t), 0.35355339059327373, 1e-15);
+  EXPECT_NEAR(core::force_reward(22.0, t), 0.35355339059327373, 1e-15);
+  EXPECT_NEAR(core::force_reward(18.0, t), 0.35355339059327373, 1e-15);
   // δ = 1 (band edge) and beyond: 0.
-  EXPECT_EQ(coopt::force_reward(24.0, t), 0.0);
-  EXPECT_EQ(coopt::force_reward(0.0, t), 0.0);
-  EXPECT_TRUE(coopt::in_band(23.9, t));
-  EXPECT_FALSE(coopt::in_band(24.1, t));
+  EXPECT_EQ(core::force_reward(24.0, t), 0.0);
+  EXPECT_EQ(core::force_reward(0.0, t), 0.0);
+  EXPECT_TRUE(core::in_band(23.9, t));
+  EXPECT_FALSE(core::in_band(24.1, t));
 }
 
 TEST(WhiskerEnv, ObservationLayouts) {
@@ -63,7 +63,7 @@ TEST(WhiskerEnv, ObservationLayouts) {
     WhiskerEnv env(pool(), t);
     env.set_episode({63, 5.0, 15.0, 0.0, 0.0});
     const Eigen::VectorXd o = env.reset(std::nullopt);
-    ASSERT_EQ(o.size(), coopt::observation_dim(t));
+    ASSERT_EQ(o.size(), core::observation_dim(t));
     // Pressures 5 and 15 of 20 kPa map to −0.5 and +0.5.
     const Eigen::Index p = set == ObservationSet::NoFeedback ? 0 : 3;
     EXPECT_NEAR(o[p], -0.5, 1e-12);
@@ -93,9 +93,9 @@ TEST(WhiskerEnv, HistoryStacksPastObservationsAndActionsNewestFirst) {
   plain.observation = ObservationSet::Proprioceptive;
   TaskConfig t = plain;
   t.history = k;
-  ASSERT_EQ(coopt::observation_dim(t), 7 + k * 3);
+  ASSERT_EQ(core::observation_dim(t), 7 + k * 3);
   WhiskerEnv with(pool(), t), without(pool(), plain);
-  const coopt::EpisodeSetup setup{41, 10.0, 0.0, 0.0, 0.0};
+  const core::EpisodeSetup setup{41, 10.0, 0.0, 0.0, 0.0};
   with.set_episode(setup);
   without.set_episode(setup);
   std::vector<Eigen::VectorXd> seen{without.reset(std::nullopt)};
@@ -136,20 +136,20 @@ TEST(WhiskerEnv, PrivilegedFeaturesFollowTheTrueStateAndLeaveTheObservationAlone
   TaskConfig t;  // F_t = 20 mN, tol 0.2: band 4 mN; 250 steps of 0.01 s held 5: 50 decisions
   t.observation = ObservationSet::Proprioceptive;
   WhiskerEnv with(pool(), t, true), without(pool(), t);
-  ASSERT_EQ(with.spec().observation.dim(), 7u + coopt::kPrivilegedDim);
+  ASSERT_EQ(with.spec().observation.dim(), 7u + core::kPrivilegedDim);
   const double phi = 0.7;
-  const coopt::EpisodeSetup setup{41, 10.0, 0.0, phi, 0.0};
+  const core::EpisodeSetup setup{41, 10.0, 0.0, phi, 0.0};
   with.set_episode(setup);
   without.set_episode(setup);
   const fem::SceneConfig scene;  // the pool's: f = 0.8 Hz, θ limit 30°
   const double lim = scene.theta_limit_deg * std::numbers::pi / 180.0;
   auto expect_features = [&](const Eigen::VectorXd& o, const Eigen::VectorXd& plain, double t_s, int decision) {
-    ASSERT_EQ(o.size(), 7 + coopt::kPrivilegedDim);
+    ASSERT_EQ(o.size(), 7 + core::kPrivilegedDim);
     EXPECT_EQ(o.head<7>(), plain) << "decision " << decision;
     const fem::Sensors s = with.simulator().sensors();
     EXPECT_NEAR(s.time_s, t_s, 1e-12);
-    EXPECT_DOUBLE_EQ(o[7], std::clamp((s.contact_force_mN - 20.0) / 4.0, -coopt::kObservationClip,
-                                      coopt::kObservationClip));
+    EXPECT_DOUBLE_EQ(o[7], std::clamp((s.contact_force_mN - 20.0) / 4.0, -core::kObservationClip,
+                                      core::kObservationClip));
     EXPECT_DOUBLE_EQ(o[8], s.theta_rad / lim);
     const double phase = 2.0 * std::numbers::pi * scene.plate_frequency_Hz * t_s + phi;
     EXPECT_NEAR(o[9], std::sin(phase), 1e-12);
@@ -161,7 +161,7 @@ TEST(WhiskerEnv, PrivilegedFeaturesFollowTheTrueStateAndLeaveTheObservationAlone
   for (int d = 1; d <= 3; ++d) {
     a[0] = -0.02 * d;  // small turns away: the force stays near the band (no clipping)
     const rl::StepResult r = with.step(a), p = without.step(a);
-    EXPECT_LT(std::abs(r.obs[7]), coopt::kObservationClip);
+    EXPECT_LT(std::abs(r.obs[7]), core::kObservationClip);
     EXPECT_EQ(r.reward, p.reward);
     expect_features(r.obs, p.obs, 0.05 * d, d);
   }
@@ -172,9 +172,9 @@ TEST(WhiskerEnv, HistoryOfTheNoFeedbackSetIsActionsOnly) {
   TaskConfig t;
   t.observation = ObservationSet::NoFeedback;
   t.history = 2;
-  EXPECT_EQ(coopt::observation_dim(t), 2 + 2);
+  EXPECT_EQ(core::observation_dim(t), 2 + 2);
   t.observation = ObservationSet::Paper;
-  EXPECT_EQ(coopt::observation_dim(t), 6 + 2 * 2);
+  EXPECT_EQ(core::observation_dim(t), 6 + 2 * 2);
   t.history = 50;  // 50 decisions per episode: at most 49 past ones
   EXPECT_THROW(WhiskerEnv(pool(), t), std::invalid_argument);
 }
@@ -227,7 +227,7 @@ TEST(WhiskerEnv, FlipPenaltyOnSignChange) {
   const rl::StepResult r2 = env.step(a);
   const fem::Sensors s = env.simulator().sensors();
   // r = r_f − 0.05·0.2 − 0.1 (flip).
-  EXPECT_NEAR(r2.reward, coopt::force_reward(s.contact_force_mN, t) - 0.01 - 0.1, 1e-12);
+  EXPECT_NEAR(r2.reward, core::force_reward(s.contact_force_mN, t) - 0.01 - 0.1, 1e-12);
   (void)r1;
 }
 
@@ -236,11 +236,11 @@ TEST(WhiskerEnv, EpisodeDoesNotDependOnEarlierEpisodes) {
   t.observation = ObservationSet::Proprioceptive;
   const EpisodeSetup target{21, 3.0, 0.0, 1.0, 0.0};
   // Fresh pool: the first simulator ever built for j21.
-  auto fresh = std::make_shared<coopt::SimulatorPool>(fem::WhiskerModelSpec{}, fem::SceneConfig{}, fem::SolverConfig{});
+  auto fresh = std::make_shared<core::SimulatorPool>(fem::WhiskerModelSpec{}, fem::SceneConfig{}, fem::SolverConfig{});
   WhiskerEnv a(fresh, t);
   a.set_recording(true);
   const std::vector<double> ra = episode(a, target, 0.3);
-  const std::vector<coopt::TraceRow> ta = a.trace();
+  const std::vector<core::TraceRow> ta = a.trace();
   // The same simulator object after other episodes (another pressure, phase and actions).
   WhiskerEnv b(fresh, t);
   b.set_recording(true);
@@ -263,7 +263,7 @@ namespace {
 // the same pressure out of contact, computed here independently with a bare simulator.
 TEST(WhiskerEnv, InflatedStrainOffsetSubtractsTheFreeStrainAtThePressures) {
   TaskConfig t;
-  t.strain_offset = coopt::StrainOffset::Inflated;
+  t.strain_offset = core::StrainOffset::Inflated;
   WhiskerEnv env(pool(), t);
   const EpisodeSetup s{21, 8.0, 0.0, 0.3, 0.0};
   env.set_episode(s);
@@ -301,8 +301,8 @@ TEST(WhiskerEnv, InflatedStrainOffsetSubtractsTheFreeStrainAtThePressures) {
 // depend on it: the same setup on a fresh environment without the offset gives the same forces.
 TEST(WhiskerEnv, InflatedStrainOffsetDoesNotChangeTheEpisode) {
   TaskConfig zeroed, raw;
-  zeroed.strain_offset = coopt::StrainOffset::Inflated;
-  raw.strain_offset = coopt::StrainOffset::None;
+  zeroed.strain_offset = core::StrainOffset::Inflated;
+  raw.strain_offset = core::StrainOffset::None;
   WhiskerEnv a(pool(), zeroed);
   WhiskerEnv b(pool(), raw);
   const EpisodeSetup s{40, 5.0, 3.0, 1.1, 0.0};

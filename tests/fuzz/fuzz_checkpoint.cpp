@@ -23,10 +23,10 @@ void parse(std::span<const unsigned char> bytes) {
   if (bytes.size() >= 20) std::memcpy(&fp, bytes.data() + 12, 8);
   try {
     const run::Checkpoint c = run::parse_checkpoint(bytes, "fuzz.ckpt", fp);
-    const coopt::LoopState& s = c.loop;
-    const coopt::DistributionConfig dc = coopt::distribution_config(coopt::CodesignConfig{}, coopt::TaskConfig{});
+    const core::LoopState& s = c.loop;
+    const core::DistributionConfig dc = core::distribution_config(core::CodesignConfig{}, core::TaskConfig{});
     try {
-      const coopt::DesignDistribution d(dc, coopt::design_chambers(), s.distribution);
+      const core::DesignDistribution d(dc, core::design_chambers(), s.distribution);
       (void)d.entropy(s.t);
     } catch (const std::invalid_argument&) {  // what OuterLoop::restore turns into InputError
     }

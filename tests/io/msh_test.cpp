@@ -14,7 +14,7 @@
 #include "fem/mesh_quality.hpp"
 #include "fem/whisker_mesh.hpp"
 #include "io/msh.hpp"
-#include "../fem/test_util.hpp"
+#include "test_util.hpp"
 
 using namespace codesign;
 using fem::TetMesh;

@@ -8,6 +8,8 @@
 namespace codesign::run {
 namespace {
 
+using namespace core;  // the core types these tests build
+
 std::string error_of(const std::string& text, bool task) {
   try {
     io::TableReader r = io::TableReader::from_string(text, "run.toml");

@@ -20,6 +20,8 @@
 namespace codesign::run {
 namespace {
 
+using namespace core;  // the core types these tests build
+
 using codesign::test_files::slurp;
 
 struct RunTables {

@@ -15,7 +15,7 @@
 #include "run/episode_render.hpp"
 
 using namespace codesign;
-using namespace codesign::coopt;
+using namespace codesign::core;
 using namespace codesign::run;
 
 namespace {

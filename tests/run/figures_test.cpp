@@ -20,7 +20,7 @@
 #include "run/figures.hpp"
 
 using namespace codesign;
-using namespace codesign::coopt;
+using namespace codesign::core;
 using namespace codesign::run;
 namespace fs = std::filesystem;
 

@@ -14,6 +14,8 @@
 namespace codesign::run {
 namespace {
 
+using namespace core;  // the core types these tests build
+
 namespace fs = std::filesystem;
 
 using codesign::test_files::slurp;

@@ -29,7 +29,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace codesign;
-using namespace codesign::coopt;
+using namespace codesign::core;
 using namespace codesign::run;
 using codesign::test_files::slurp;
 

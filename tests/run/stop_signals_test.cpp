@@ -16,7 +16,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-using namespace codesign::coopt;
+using namespace codesign::core;
 using namespace codesign::run;
 
 void (*handler_of(int signo))(int) {

@@ -4,22 +4,23 @@
 #include <memory>
 
 #include "codesign/outer_loop.hpp"
-#include "test_setup.hpp"
+#include "tiny_loop.hpp"
 
 namespace {
 
 using namespace codesign;
-using namespace codesign::coopt;
-using namespace codesign::run;
+using namespace codesign::core;
+using test_loops::TinyLoop;
+using test_loops::tiny_loop;
 
-std::unique_ptr<OuterLoop> make_loop(const RunSettings& s, std::size_t threads) {
+std::unique_ptr<OuterLoop> make_loop(const TinyLoop& s, std::size_t threads) {
   auto sims = std::make_shared<SimulatorPool>(s.spec, s.scene, s.solver);
   auto envs = std::make_unique<ThreadEnvPool>(sims, s.loop.task, 4, threads);
   return std::make_unique<OuterLoop>(s.loop, std::move(envs));
 }
 
 TEST(OuterLoop, BitIdenticalForOneAndTwoThreads) {
-  const RunSettings s = test::tiny_run();
+  const TinyLoop s = tiny_loop();
   auto a = make_loop(s, 1), b = make_loop(s, 2);
   for (int k = 0; k < 3; ++k) {
     const IterationReport ra = a->iterate(), rb = b->iterate();
@@ -32,7 +33,7 @@ TEST(OuterLoop, BitIdenticalForOneAndTwoThreads) {
 }
 
 TEST(OuterLoop, RestoredStateContinuesIdentically) {
-  const RunSettings s = test::tiny_run();
+  const TinyLoop s = tiny_loop();
   auto a = make_loop(s, 1);
   a->iterate();
   a->iterate();
@@ -52,7 +53,7 @@ TEST(OuterLoop, RestoredStateContinuesIdentically) {
 }
 
 TEST(OuterLoop, PhasesEndCollapsedOnOneDesign) {
-  const RunSettings s = test::tiny_run();
+  const TinyLoop s = tiny_loop();
   auto a = make_loop(s, 2);
   std::vector<Phase> phases;
   IterationReport last;
@@ -70,7 +71,7 @@ TEST(OuterLoop, PhasesEndCollapsedOnOneDesign) {
 }
 
 TEST(OuterLoop, SingleDesignBaselineSamplesOnlyItsDesign) {
-  RunSettings s = test::tiny_run();
+  TinyLoop s = tiny_loop();
   s.loop.codesign.baseline = Baseline::SingleDesign;
   s.loop.codesign.single_design_index = 63;
   s.loop.codesign.single_design_p1_kPa = 2.0;
@@ -87,7 +88,7 @@ TEST(OuterLoop, SingleDesignBaselineSamplesOnlyItsDesign) {
 // ppo.privileged_critic: the critic reads the environments' kPrivilegedDim extra rows, the
 // actor and the policy the loop hands out (its normalisation too) only the task's observation.
 TEST(OuterLoop, PrivilegedCriticReadsTheExtraRowsAndThePolicyDoesNot) {
-  RunSettings s = test::tiny_run();
+  TinyLoop s = tiny_loop();
   s.loop.ppo.privileged_critic = true;
   s.loop.ppo.normalize_observations = true;
   auto sims = std::make_shared<SimulatorPool>(s.spec, s.scene, s.solver);
@@ -113,7 +114,7 @@ TEST(OuterLoop, PrivilegedCriticReadsTheExtraRowsAndThePolicyDoesNot) {
 // environment 0, the hidden states that the model's own steps give from that environment's
 // observations, starting from zero at the episode's start.
 TEST(OuterLoop, MemoryObserverSeesEnvironmentZerosHiddenStates) {
-  RunSettings s = test::tiny_run();
+  TinyLoop s = tiny_loop();
   s.loop.ppo.policy = rl::PolicyKind::Gru;
   s.loop.ppo.gru_hidden = 8;
   auto sims = std::make_shared<SimulatorPool>(s.spec, s.scene, s.solver);
@@ -161,7 +162,7 @@ TEST(OuterLoop, MemoryObserverSeesEnvironmentZerosHiddenStates) {
 // ppo.policy = "gru": the loop trains the recurrent model (both GRUs and both MLPs move), its
 // state restores exactly, and a state without the GRU parameters is refused.
 TEST(OuterLoop, RecurrentPolicyTrainsAndRestoresExactly) {
-  RunSettings s = test::tiny_run();
+  TinyLoop s = tiny_loop();
   s.loop.ppo.policy = rl::PolicyKind::Gru;
   s.loop.ppo.gru_hidden = 8;
   s.loop.ppo.privileged_critic = true;
@@ -205,7 +206,7 @@ TEST(OuterLoop, RecurrentPolicyTrainsAndRestoresExactly) {
 }
 
 TEST(OuterLoop, RejectsRolloutLengthOtherThanAnEpisode) {
-  RunSettings s = test::tiny_run();
+  TinyLoop s = tiny_loop();
   s.loop.ppo.n_steps = 6;
   EXPECT_THROW(make_loop(s, 1), std::invalid_argument);
 }
