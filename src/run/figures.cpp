@@ -125,18 +125,11 @@ std::optional<EvalDesign> read_eval_design(const fs::path& dir, const std::strin
   return d;
 }
 
-// eval/<which>_trace.csv (and the traced episode's return from eval/<which>.csv, row 0).
+// The traced first test episode of `which` and its return, when the run folder has them.
 void read_trace(const fs::path& dir, const std::string& which, std::vector<TracePoint>& trace, double& ret) {
-  const fs::path file = dir / run_file::kEvalDir / (which + "_trace.csv");
-  if (!fs::exists(file)) return;
-  const io::CsvTable t = io::read_csv(file.string());
-  const std::size_t ct = t.column("t_s"), cth = t.column("theta_rad"), cf = t.column("F_mN");
-  for (std::size_t r = 0; r < t.rows(); ++r) trace.push_back({t.number(r, ct), t.number(r, cth), t.number(r, cf)});
-  ret = NAN;
-  const fs::path episodes = dir / run_file::kEvalDir / (which + ".csv");
-  if (fs::exists(episodes)) {
-    const io::CsvTable e = io::read_csv(episodes.string());
-    if (e.rows() > 0) ret = e.number(0, e.column("return"));
+  if (std::optional<EvaluationTrace> t = read_evaluation_trace(dir, which)) {
+    trace = std::move(t->points);
+    ret = t->first_return;
   }
 }
 

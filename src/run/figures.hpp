@@ -34,6 +34,7 @@
 #include "codesign/codesign_config.hpp"
 #include "codesign/task_config.hpp"
 #include "io/gnuplot.hpp"
+#include "run/run_folder.hpp"
 
 namespace codesign::run {
 
@@ -84,10 +85,6 @@ struct EvalDesign {   // a [best] / [runner_up] table of result.toml
   double pressures_kPa[2] = {0, 0};
   double test_return = 0;
 };
-struct TracePoint {   // one row of eval/<which>_trace.csv
-  double t_s = 0, theta_rad = 0, force_mN = 0;
-};
-
 struct RunFigureData {
   std::string dir;
   core::ObservationSet observation = core::ObservationSet::Paper;  // [task] observation

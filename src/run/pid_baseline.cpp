@@ -10,6 +10,7 @@
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_log.hpp"
+#include "run/output_dir.hpp"
 #include "run/run_folder.hpp"
 
 namespace codesign::run {
@@ -93,12 +94,7 @@ void run_pid_baseline(const RunConfig& setup, const PidBaselineOptions& o) {
   const fem::Design d = fem::design_from_index(o.design);
   const double p2 = d.n == 2 ? o.p2_kPa : 0.0;
   const fs::path dir(o.out);
-  std::error_code ec;
-  if (fs::exists(dir / kBaselineFile, ec) && !o.force)
-    throw InputError(dir.string() + ": already holds baseline.toml of an earlier baseline; choose another -o or "
-                     "pass --force");
-  fs::create_directories(dir, ec);
-  if (ec) throw InputError(dir.string() + ": cannot create output directory: " + ec.message());
+  prepare_output_dir(dir, kBaselineFile, "baseline", o.force);
 
   auto sims = std::make_shared<core::SimulatorPool>(setup.spec, setup.scene, setup.solver);
   const core::TaskConfig& task = setup.task;

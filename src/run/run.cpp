@@ -323,7 +323,6 @@ std::optional<Checkpoint> prepare_run_folder(const RunSettings& settings, const 
       io::write_file_atomically((dir / run_file::kConfigInput).string(),
                                 [&](std::ostream& out) { out << settings.config_text; });
   }
-
   return ckpt;
 }
 

@@ -1,5 +1,6 @@
 #include "run/run_folder.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -8,6 +9,7 @@
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_log.hpp"
+#include "io/csv_table.hpp"
 #include "io/toml_reader.hpp"
 
 namespace codesign::run {
@@ -120,6 +122,22 @@ void write_evaluation(const fs::path& dir, const std::string& which, const Desig
       out << '\n';
     }
   });
+}
+
+std::optional<EvaluationTrace> read_evaluation_trace(const fs::path& run_dir, const std::string& which) {
+  const fs::path file = run_dir / run_file::kEvalDir / (which + "_trace.csv");
+  if (!fs::exists(file)) return std::nullopt;
+  EvaluationTrace out;
+  const io::CsvTable t = io::read_csv(file.string());
+  const std::size_t ct = t.column("t_s"), cth = t.column("theta_rad"), cf = t.column("F_mN");
+  for (std::size_t r = 0; r < t.rows(); ++r) out.points.push_back({t.number(r, ct), t.number(r, cth), t.number(r, cf)});
+  out.first_return = NAN;
+  const fs::path episodes = run_dir / run_file::kEvalDir / (which + ".csv");
+  if (fs::exists(episodes)) {
+    const io::CsvTable e = io::read_csv(episodes.string());
+    if (e.rows() > 0) out.first_return = e.number(0, e.column("return"));
+  }
+  return out;
 }
 
 }  // namespace codesign::run

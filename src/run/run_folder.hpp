@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "codesign/evaluation.hpp"
 #include "codesign/force_estimator.hpp"
@@ -91,5 +92,18 @@ void write_refined_result(const std::filesystem::path& run_dir, const core::Refi
 // DIR is the run folder's eval/ folder; it is created when missing.
 void write_evaluation(const std::filesystem::path& dir, const std::string& which, const core::DesignEvaluation& e,
                       const core::ForceEstimator* estimator = nullptr);
+
+// One row of eval/<which>_trace.csv as the figures read it.
+struct TracePoint {
+  double t_s = 0, theta_rad = 0, force_mN = 0;
+};
+// The first test episode of `which` in the run folder: eval/<which>_trace.csv row by row, and that
+// episode's return (row 0 of eval/<which>.csv; NaN when that file is missing or empty). nullopt
+// when the trace file is missing; a malformed file is an InputError naming it.
+struct EvaluationTrace {
+  std::vector<TracePoint> points;
+  double first_return = 0.0;
+};
+std::optional<EvaluationTrace> read_evaluation_trace(const std::filesystem::path& run_dir, const std::string& which);
 
 }  // namespace codesign::run

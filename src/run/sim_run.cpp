@@ -4,11 +4,11 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "base/errors.hpp"
 #include "codesign/open_loop_scenario.hpp"
 #include "fem/whisker_model.hpp"
 #include "io/csv_writer.hpp"
 #include "io/vtk.hpp"
+#include "run/output_dir.hpp"
 
 namespace codesign::run {
 
@@ -34,11 +34,7 @@ int run_sim(const RunConfig& setup, const SimRunOptions& opt) {
   const io::SimScenario& sc = setup.scenario;
   const int vtk_every = opt.vtk_every >= 0 ? opt.vtk_every : sc.vtk_every;
   const fs::path dir(opt.out);
-  std::error_code ec;
-  if (fs::exists(dir / "trace.csv", ec) && !opt.force)
-    throw InputError(dir.string() + ": already holds trace.csv of an earlier run; choose another -o or pass --force");
-  fs::create_directories(dir, ec);
-  if (ec) throw InputError(dir.string() + ": cannot create output directory: " + ec.message());
+  prepare_output_dir(dir, "trace.csv", "run", opt.force);
 
   const auto t0 = std::chrono::steady_clock::now();
   const auto model = fem::build_whisker_model(sc.design, setup.spec);

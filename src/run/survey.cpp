@@ -7,11 +7,11 @@
 #include <numbers>
 #include <vector>
 
-#include "base/errors.hpp"
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_log.hpp"
 #include "rl/thread_pool.hpp"
+#include "run/output_dir.hpp"
 
 namespace codesign::run {
 
@@ -43,18 +43,22 @@ void write_survey_csv(const fs::path& file, int first, const std::vector<SurveyR
 void print_summary(const core::TaskConfig& task, const core::SurveyOptions& o, const std::vector<SurveyRow>& rows) {
   const int first = o.first_design;
   const int count = static_cast<int>(rows.size());
-  double lo = 1e300, hi = -1e300;
-  for (const SurveyRow& r : rows) lo = std::min(lo, r.strain_min), hi = std::max(hi, r.strain_max);
-  const double pad = 0.1 * (hi - lo);
-  std::printf("survey: strain over all episodes in [%.6g, %.6g]\n", lo, hi);
+  // The range of a strain column over every row, and the range widened by 10 % on each side.
+  struct Range {
+    double lo = 1e300, hi = -1e300;
+    double pad() const { return 0.1 * (hi - lo); }
+  };
+  Range eps, zeroed;
+  for (const SurveyRow& r : rows) {
+    eps.lo = std::min(eps.lo, r.strain_min), eps.hi = std::max(eps.hi, r.strain_max);
+    zeroed.lo = std::min(zeroed.lo, r.zeroed_min), zeroed.hi = std::max(zeroed.hi, r.zeroed_max);
+  }
+  std::printf("survey: strain over all episodes in [%.6g, %.6g]\n", eps.lo, eps.hi);
   std::printf("survey: suggested [task] strain_min = %.4g, strain_max = %.4g (range widened by 10 %% each side)\n",
-              lo - pad, hi + pad);
-  double zlo = 1e300, zhi = -1e300;
-  for (const SurveyRow& r : rows) zlo = std::min(zlo, r.zeroed_min), zhi = std::max(zhi, r.zeroed_max);
-  const double zpad = 0.1 * (zhi - zlo);
-  std::printf("survey: zeroed strain (eps - eps0) over all episodes in [%.6g, %.6g]\n", zlo, zhi);
+              eps.lo - eps.pad(), eps.hi + eps.pad());
+  std::printf("survey: zeroed strain (eps - eps0) over all episodes in [%.6g, %.6g]\n", zeroed.lo, zeroed.hi);
   std::printf("survey: suggested [task] zeroed_strain_min = %.4g, zeroed_strain_max = %.4g (widened by 10 %% each side)\n",
-              zlo - zpad, zhi + zpad);
+              zeroed.lo - zeroed.pad(), zeroed.hi + zeroed.pad());
   if (!o.fixed_theta) return;
   std::vector<double> ret, band;
   int best_j = first;
@@ -81,11 +85,7 @@ void print_summary(const core::TaskConfig& task, const core::SurveyOptions& o, c
 
 void run_survey(const RunConfig& setup, const SurveyRunOptions& o) {
   const fs::path dir(o.out);
-  std::error_code ec;
-  if (fs::exists(dir / "survey.csv", ec) && !o.force)
-    throw InputError(dir.string() + ": already holds survey.csv of an earlier survey; choose another -o or pass --force");
-  fs::create_directories(dir, ec);
-  if (ec) throw InputError(dir.string() + ": cannot create output directory: " + ec.message());
+  prepare_output_dir(dir, "survey.csv", "survey", o.force);
 
   auto sims = std::make_shared<core::SimulatorPool>(setup.spec, setup.scene, setup.solver);
   rl::ThreadPool pool(static_cast<std::size_t>(o.threads));
