@@ -45,14 +45,9 @@ inline const char* to_string(StrainOffset s) { return name_of(kStrainOffsetNames
 // the evaluation never injects.
 enum class Fault { None, NanPressure, InvertedElement };
 
-inline const char* to_string(Fault f) {
-  switch (f) {
-    case Fault::None: return "none";
-    case Fault::NanPressure: return "nan_pressure";
-    case Fault::InvertedElement: return "inverted_element";
-  }
-  return "?";
-}
+inline constexpr EnumNames<Fault, 3> kFaultNames{
+    {{Fault::None, "none"}, {Fault::NanPressure, "nan_pressure"}, {Fault::InvertedElement, "inverted_element"}}};
+inline const char* to_string(Fault f) { return name_of(kFaultNames, f).data(); }
 
 struct FaultConfig {
   int nan_pressure_every = 0;      // in [0, 1e6]

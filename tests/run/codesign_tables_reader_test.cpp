@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "base/errors.hpp"
+#include "codesign/nlopt_search.hpp"
 #include "run/codesign_tables_reader.hpp"
 
 namespace codesign::run {
@@ -75,6 +77,22 @@ TEST(ConfigReader, EnumKeysReadEveryNameOfTheirTable) {
   EXPECT_EQ(error_of("[task]\nobservation = \"full\"\n", true),
             "run.toml: task.observation: value \"full\" is not allowed; allowed: \"paper\", \"proprioceptive\", "
             "\"no_feedback\"");
+}
+
+// [pid] method reads through the local-search table: every name, and a bad one listed against it.
+TEST(ConfigReader, PidMethodReadsEveryNameOfItsTable) {
+  for (const auto& n : kLocalMethodNames) {
+    io::TableReader r = io::TableReader::from_string("[pid]\nmethod = \"" + std::string(n.name) + "\"\n", "run.toml");
+    EXPECT_EQ(read_pid_config(r).search.method, n.value);
+  }
+  io::TableReader bad = io::TableReader::from_string("[pid]\nmethod = \"newton\"\n", "run.toml");
+  try {
+    read_pid_config(bad);
+    ADD_FAILURE() << "method = newton was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "run.toml: pid.method: value \"newton\" is not allowed; allowed: \"bobyqa\", "
+                                     "\"cobyla\", \"neldermead\", \"sbplx\"");
+  }
 }
 
 TEST(ConfigReader, HistoryIsBoundedByTheDecisionsPerEpisode) {
