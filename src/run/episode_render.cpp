@@ -271,7 +271,6 @@ int write_frames(const fs::path& dir, const std::vector<std::vector<RecordedFram
   return static_cast<int>(frames);
 }
 
-
 void render_run_frames(const fs::path& run_dir, const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task,
                        int eval_episodes, const io::RenderConfig& config, bool force) {
   const std::shared_ptr<const rl::Policy> policy = load_task_policy(run_dir / run_file::kPolicy, task);

@@ -72,7 +72,6 @@ std::vector<RecordedFrame> record_scenario(const std::shared_ptr<core::Simulator
 int write_frames(const std::filesystem::path& dir, const std::vector<std::vector<RecordedFrame>>& sequences,
                  const io::RenderConfig& config, bool force);
 
-
 // "j21 {1, 28 mm, 2.5 mm}  p = [0.069, 0] kPa"
 std::string design_title(int design, double p1_kPa, double p2_kPa);
 

@@ -674,7 +674,6 @@ int figures_of_run(const FigureOptions& o) {
   return failed == 0 ? 0 : 1;
 }
 
-
 bool draw_run_figures(const std::string& run_dir, const std::string& plots_dir) {
   try {
     FigureOptions o;

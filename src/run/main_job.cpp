@@ -48,12 +48,11 @@ int run_main_job(const MainJobOptions& o) {
   // The first evaluation episodes of d* and the runner-up as PNG frames ([render], docs/rendering.md).
   if (frames)
     render_run_frames(out, std::make_shared<core::SimulatorPool>(s.spec, s.scene, s.solver), s.loop.task,
-                             s.loop.codesign.eval_episodes, setup.render, /*force=*/true);
+                      s.loop.codesign.eval_episodes, setup.render, /*force=*/true);
   if (const int st = stop_after_run(out, false, figures); st != 0) return st;
   // The paper's figures from the finished run (RUN/figures/); a problem there is a warning only.
   if (figures) draw_run_figures(out, o.plots_dir);
   return 0;
 }
-
 
 }  // namespace codesign::run

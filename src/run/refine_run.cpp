@@ -28,8 +28,7 @@ void refine_run(const RefineRunOptions& o) {
       throw InputError(dir.string() + ": has no " + f + "; refine needs a finished co-design run folder");
   const RunConfig setup = read_run_config((dir / run_file::kConfig).string());
   const std::string result_path = (dir / run_file::kResult).string();
-  const std::optional<ResultDesign> best =
-      read_result_design(dir, "best", setup.task.pressure_max_kPa);
+  const std::optional<ResultDesign> best = read_result_design(dir, "best", setup.task.pressure_max_kPa);
   if (!best) throw InputError(result_path + ": has no [best] design");
   const int design = best->setup.design;
   const std::vector<double> p{best->setup.p1_kPa, best->setup.p2_kPa};
@@ -62,6 +61,5 @@ void refine_run(const RefineRunOptions& o) {
   write_refined_result(dir, r);
   std::printf("refine: wrote [refined] into %s\n", result_path.c_str());
 }
-
 
 }  // namespace codesign::run

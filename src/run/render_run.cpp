@@ -85,8 +85,8 @@ void render_frames(const RenderRunOptions& o) {
       core::EpisodeSetup s = result->setup;
       s.plate_phase_rad = phase;
       seqs.push_back(record_episode(sims, task, s, core::episode_controller(policy), rc.every_steps,
-                                           (w == "best" ? "d*: " : "runner-up: ") +
-                                               design_title(s.design, s.p1_kPa, s.p2_kPa)));
+                                    (w == "best" ? "d*: " : "runner-up: ") +
+                                        design_title(s.design, s.p1_kPa, s.p2_kPa)));
     }
   } else {
     const std::shared_ptr<const rl::Policy> policy = o.policy.empty() ? nullptr : core::load_task_policy(o.policy, task);
@@ -108,9 +108,8 @@ void render_frames(const RenderRunOptions& o) {
       } else {
         core::EpisodeSetup s{j, p[0], p[1], phase, 0.0};
         seqs.push_back(record_episode(sims, task, s,
-                                             policy ? core::episode_controller(policy) : core::Controller{},
-                                             rc.every_steps,
-                                             (o.policy.empty() ? "base held: " : "policy: ") + title));
+                                      policy ? core::episode_controller(policy) : core::Controller{},
+                                      rc.every_steps, (o.policy.empty() ? "base held: " : "policy: ") + title));
       }
     }
   }
@@ -120,6 +119,5 @@ void render_frames(const RenderRunOptions& o) {
   std::printf("render: %d frames (%dx%d, %zu panel%s) in %.2f s (%.1f frames/s incl. PNG) -> %s\n", n, rc.width,
               rc.height, seqs.size(), seqs.size() > 1 ? "s" : "", s, n / std::max(s, 1e-9), o.out.c_str());
 }
-
 
 }  // namespace codesign::run

@@ -298,5 +298,4 @@ void evaluate_run_folder(const RunEvaluationOptions& eo) {
   if (!r.figure) std::printf("evaluate: warning: no ranking.png: %s\n", r.figure_message.c_str());
 }
 
-
 }  // namespace codesign::run
