@@ -1,5 +1,5 @@
 // `codesign evaluate --run DIR [--at final|t1|t2] [--designs A-B] [--phases N] [--force] [--plots DIR]
-//                   [--threads N]`
+//                   [--threads N] [--pressures-of RUN]`
 //
 // The deterministic policy of one state of a co-design run tested on every design of a range,
 // ranked, into DIR/evaluate/<at>/ (run/run_evaluation.hpp).
@@ -40,6 +40,9 @@ void add_evaluate_command(CLI::App& root, Runner& run) {
       ->check(CLI::Range(2, 100000));
   cmd->add_flag("--force", opt->run.force, "replace an evaluation of this state made with other settings");
   cmd->add_option("--plots", opt->run.plots_dir, "folder of evaluate_ranking.gp (default: " CODESIGN_PLOTS_DIR ")");
+  cmd->add_option("--pressures-of", opt->run.pressures_of,
+                  "another run folder: test each design at the pressures that run's state at --at gives it "
+                  "(one seed's policy on another seed's design answers)");
   add_threads_option(*cmd, opt->threads);
   cmd->callback([opt, &run] {
     run = [opt] {

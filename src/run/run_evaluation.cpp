@@ -93,7 +93,8 @@ std::string draw_ranking(const fs::path& folder, const std::string& plots_dir, c
   call.set("plotsdir", plots_dir);
   call.set("datafile", (folder / "ranking.dat").string());
   call.set("outfile", (folder / "ranking.png").string());
-  call.set("title", "policy at " + at + " (t = " + std::to_string(s.t) + "): designs by test return");
+  call.set("title", "policy at " + at + " (t = " + std::to_string(s.t) + "): designs by test return" +
+                        (s.pressures_t >= 0 ? ", at another run's pressures" : ""));
   const io::GnuplotOutcome r = io::run_gnuplot(call);
   return r.ok() ? "" : r.message();
 }
@@ -107,10 +108,64 @@ std::string checkpoint_file_of(const std::string& at) {
   throw InputError("--at: '" + at + "' is not one of final, t1, t2");
 }
 
+std::string evaluation_folder_name(const RunEvaluationOptions& options) {
+  if (options.pressures_of.empty()) return options.at;
+  fs::path other = fs::path(options.pressures_of).lexically_normal();
+  if (other.filename().empty()) other = other.parent_path();  // "runs/b/" names b
+  return options.at + "_pressures_of_" + other.filename().string();
+}
+
+namespace {
+
+// One state of a run folder, restored from its checkpoint of `at`: the policy and the design
+// distribution as the run held them (no rollout runs).
+struct RestoredState {
+  std::string file;                      // the checkpoint's file name
+  std::uint64_t config_fingerprint = 0;
+  std::shared_ptr<SimulatorPool> sims;
+  std::unique_ptr<OuterLoop> loop;
+};
+
+RestoredState restore_state(const RunSettings& settings, const fs::path& dir, const std::string& at) {
+  RestoredState s;
+  s.file = checkpoint_file_of(at);
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw InputError(dir.string() + ": no such run folder");
+  const fs::path ckpt_path = dir / s.file;
+  if (!fs::exists(ckpt_path, ec))
+    throw InputError(ckpt_path.string() + ": no such checkpoint" +
+                     (at == "final" ? std::string(" (the run has not reached its first checkpoint)")
+                                    : " (the run has not reached " + at + " yet, or was started "
+                                      "before runs kept their T1 and T2 checkpoints)"));
+  const LoopConfig& lc = settings.loop;
+  const std::string resolved = resolved_run_config(settings.spec, settings.scene, settings.solver, lc);
+  const Checkpoint ckpt = load_checkpoint(ckpt_path.string(), fingerprint(resolved));
+  s.config_fingerprint = ckpt.config_fingerprint;
+  s.sims = std::make_shared<SimulatorPool>(settings.spec, settings.scene, settings.solver);
+  s.loop = std::make_unique<OuterLoop>(
+      lc, std::make_unique<ThreadEnvPool>(s.sims, lc.task, static_cast<std::size_t>(lc.codesign.designs_per_update), 1,
+                                          lc.ppo.privileged_critic));
+  try {
+    s.loop->restore(ckpt.loop);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("checkpoint " + ckpt_path.string() + ": " + e.what());
+  }
+  return s;
+}
+
+// The pressures a state tests design j at: map(μ_j), or the p* the run fixed for the design the
+// distribution has collapsed to (as the run's own final evaluation does).
+Eigen::Vector2d test_pressures(const DesignDistribution& dist, int j) {
+  return dist.state().collapsed && j == dist.state().best_design ? dist.pressures_kPa(dist.state().best_latent, j)
+                                                                 : dist.mean_pressures_kPa(j);
+}
+
+}  // namespace
+
 RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluationOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();
   const fs::path dir(options.dir);
-  const std::string file = checkpoint_file_of(options.at);
+  checkpoint_file_of(options.at);  // a bad --at first
   if (options.first_design < 0 || options.last_design >= fem::kDesignCount || options.first_design > options.last_design)
     throw InputError("--designs: " + std::to_string(options.first_design) + "-" + std::to_string(options.last_design) +
                      " is not a range A-B with 0 <= A <= B <= " + std::to_string(fem::kDesignCount - 1));
@@ -119,36 +174,37 @@ RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluati
   if (phases < 2)
     throw InputError("--phases: " + std::to_string(phases) + " is not in [2, 100000] (the interval needs two episodes)");
   if (phases > 100000) throw InputError("--phases: " + std::to_string(phases) + " is not in [2, 100000]");
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw InputError(dir.string() + ": no such run folder");
-  const fs::path ckpt_path = dir / file;
-  if (!fs::exists(ckpt_path, ec))
-    throw InputError(ckpt_path.string() + ": no such checkpoint" +
-                     (options.at == "final" ? std::string(" (the run has not reached its first checkpoint)")
-                                            : " (the run has not reached " + options.at + " yet, or was started "
-                                              "before runs kept their T1 and T2 checkpoints)"));
-  const std::string resolved = resolved_run_config(settings.spec, settings.scene, settings.solver, lc);
-  const Checkpoint ckpt = load_checkpoint(ckpt_path.string(), fingerprint(resolved));
-
-  // The state: an outer loop restored from the checkpoint (no rollout runs: it only gives the
-  // policy and the distribution as the run held them).
-  auto sims = std::make_shared<SimulatorPool>(settings.spec, settings.scene, settings.solver);
-  OuterLoop loop(lc, std::make_unique<ThreadEnvPool>(sims, lc.task, static_cast<std::size_t>(lc.codesign.designs_per_update),
-                                                     1, lc.ppo.privileged_critic));
-  try {
-    loop.restore(ckpt.loop);
-  } catch (const std::invalid_argument& e) {
-    throw InputError("checkpoint " + ckpt_path.string() + ": " + e.what());
-  }
+  const RestoredState state = restore_state(settings, dir, options.at);
+  const std::string& file = state.file;
+  const OuterLoop& loop = *state.loop;
+  const std::shared_ptr<SimulatorPool>& sims = state.sims;
   const auto policy = std::make_shared<const rl::Policy>(loop.policy_contents());
   const DesignDistribution& dist = loop.distribution();
   const std::int64_t t = loop.timesteps();
   const Eigen::VectorXd q = dist.probabilities(t);
 
+  // The state that gives the pressures: this one, or the same `at` of another run folder.
+  RestoredState other;
+  std::string other_dir;
+  if (!options.pressures_of.empty()) {
+    const fs::path odir(options.pressures_of);
+    if (!fs::exists(odir / run_file::kConfig))
+      throw InputError("--pressures-of: " + odir.string() + " has no config.toml; it must be a co-design run folder");
+    other = restore_state(run_settings(read_run_config((odir / run_file::kConfig).string())), odir, options.at);
+    std::error_code ec;
+    other_dir = fs::weakly_canonical(odir, ec).string();
+    if (ec) other_dir = odir.string();
+  }
+  const DesignDistribution& pressure_dist = other.loop ? other.loop->distribution() : dist;
+
   RunEvaluationSummary summary;
-  const fs::path folder = dir / run_file::kEvaluateDir / options.at;
+  const fs::path folder = dir / run_file::kEvaluateDir / evaluation_folder_name(options);
   summary.folder = folder.string();
   summary.t = t;
+  if (other.loop) {
+    summary.pressures_leading_design = pressure_dist.leading_design();
+    summary.pressures_t = other.loop->timesteps();
+  }
   summary.leading_design = dist.leading_design();
   {
     const std::vector<int> rank = dist.ranking();
@@ -161,11 +217,17 @@ RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluati
   stamp << "# codesign evaluate: the deterministic policy of " << file << " tested on every design of the range\n"
         << "checkpoint = \"" << file << "\"\n"
         << "t = " << t << "\n"
-        << "config_fingerprint = \"" << std::hex << ckpt.config_fingerprint << std::dec << "\"\n"
+        << "config_fingerprint = \"" << std::hex << state.config_fingerprint << std::dec << "\"\n"
         << "phases = " << phases << "   # episodes per design, plate phases 2*pi*(k + 1/2)/phases\n"
         << "designs = [" << options.first_design << ", " << options.last_design << "]\n";
+  if (other.loop)
+    stamp << "# each design at the pressures of another run's state at " << options.at << "\n"
+          << "pressures_of = \"" << other_dir << "\"\n"
+          << "pressures_t = " << summary.pressures_t << "\n"
+          << "pressures_config_fingerprint = \"" << std::hex << other.config_fingerprint << std::dec << "\"\n";
   const fs::path stamp_path = folder / "evaluate.toml", csv = folder / "designs.csv";
   std::vector<RunEvaluationRow> done;
+  std::error_code ec;
   if (fs::exists(csv, ec)) {
     if (slurp(stamp_path) == stamp.str() && !options.force) {
       done = read_rows(csv.string());
@@ -197,9 +259,7 @@ RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluati
   for (int j = options.first_design; j <= options.last_design; ++j) {
     if (have.count(j)) continue;
     const auto t0 = std::chrono::steady_clock::now();
-    const Eigen::Vector2d p = dist.state().collapsed && j == dist.state().best_design
-                                  ? dist.pressures_kPa(dist.state().best_latent, j)
-                                  : dist.mean_pressures_kPa(j);
+    const Eigen::Vector2d p = test_pressures(pressure_dist, j);
     const DesignEvaluation e = evaluate_feedback(controller, sims, lc.task, {j, p[0], p[1], 0.0, 0.0}, eo);
     RunEvaluationRow r;
     r.design = j;
@@ -242,7 +302,10 @@ RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluati
   for (std::size_t i = 0; i < summary.ranking.size(); ++i) {
     RunEvaluationRow& r = summary.ranking[i];
     r.rank = static_cast<int>(i) + 1;
-    r.role = r.design == summary.leading_design ? "d*" : r.design == summary.runner_up ? "runner_up" : "";
+    r.role = r.design == summary.leading_design                                         ? "d*"
+             : r.design == summary.runner_up                                            ? "runner_up"
+             : r.design == summary.pressures_leading_design ? "pressures_d*"
+                                                                                        : "";
   }
   io::write_file_atomically((folder / "ranking.csv").string(), [&](std::ostream& out) {
     out << "rank," << kColumns << ",role\n";
@@ -250,10 +313,10 @@ RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluati
   });
   // gnuplot's table: rank, mean, ci95, design, role index (0 other, 1 d*, 2 runner-up).
   io::write_file_atomically((folder / "ranking.dat").string(), [&](std::ostream& out) {
-    out << "# rank mean_return ci95 design role(0 other, 1 d*, 2 runner-up)\n";
+    out << "# rank mean_return ci95 design role(0 other, 1 d*, 2 runner-up, 3 d* of the pressures' run)\n";
     for (const RunEvaluationRow& r : summary.ranking)
       out << r.rank << ' ' << num(r.mean_return) << ' ' << num(r.ci95) << ' ' << r.design << ' '
-          << (r.role == "d*" ? 1 : r.role == "runner_up" ? 2 : 0) << '\n';
+          << (r.role == "d*" ? 1 : r.role == "runner_up" ? 2 : r.role == "pressures_d*" ? 3 : 0) << '\n';
   });
   summary.figure_message = draw_ranking(folder, options.plots_dir, summary, options.at);
   summary.figure = summary.figure_message.empty();
@@ -268,8 +331,9 @@ void evaluate_run_folder(const RunEvaluationOptions& eo) {
   checkpoint_file_of(eo.at);  // a bad --at before the config is read
   const RunConfig setup = read_run_config((dir / run_file::kConfig).string());
   const RunSettings s = run_settings(setup);
-  std::printf("evaluate: %s at %s: designs %d..%d, %d plate phases each\n", eo.dir.c_str(), eo.at.c_str(),
-              eo.first_design, eo.last_design, eo.phases > 0 ? eo.phases : setup.codesign.eval_episodes);
+  std::printf("evaluate: %s at %s: designs %d..%d, %d plate phases each%s%s\n", eo.dir.c_str(), eo.at.c_str(),
+              eo.first_design, eo.last_design, eo.phases > 0 ? eo.phases : setup.codesign.eval_episodes,
+              eo.pressures_of.empty() ? "" : ", at the pressures of ", eo.pressures_of.c_str());
   std::fflush(stdout);
   const RunEvaluationSummary r = evaluate_run(s, eo);
   const auto find = [&](int j) {
@@ -285,13 +349,16 @@ void evaluate_run_folder(const RunEvaluationOptions& eo) {
                 fem::design_label(x.design).c_str(), x.p1_kPa, x.p2_kPa, x.mean_return, x.ci95, x.q,
                 x.role.empty() ? "" : "  ", x.role.c_str());
   }
-  for (const auto& [j, role] : {std::pair{r.leading_design, "d* (leading design)"}, std::pair{r.runner_up, "runner-up"}}) {
+  const std::string other_role = "d* of " + eo.pressures_of + " (its leading design at " + eo.at + ")";
+  for (const auto& [j, role] : {std::pair{r.leading_design, std::string("d* (leading design)")},
+                                std::pair{r.runner_up, std::string("runner-up")},
+                                std::pair{r.pressures_leading_design, other_role}}) {
     const auto it = find(j);
     if (j < 0) continue;
     if (it == r.ranking.end())
-      std::printf("evaluate: %s %s is outside the evaluated range\n", role, fem::design_label(j).c_str());
+      std::printf("evaluate: %s %s is outside the evaluated range\n", role.c_str(), fem::design_label(j).c_str());
     else
-      std::printf("evaluate: %s %s ranks %d of %zu: %.2f +- %.2f\n", role, fem::design_label(j).c_str(), it->rank,
+      std::printf("evaluate: %s %s ranks %d of %zu: %.2f +- %.2f\n", role.c_str(), fem::design_label(j).c_str(), it->rank,
                   r.ranking.size(), it->mean_return, it->ci95);
   }
   std::printf("evaluate: wrote %s/ranking.csv%s\n", r.folder.c_str(), r.figure ? " and ranking.png" : "");

@@ -13,6 +13,13 @@
 // in parallel on `threads` threads; with phases = codesign.eval_episodes the d* row of the final
 // state is the run's own [best] test return, to the bit.
 //
+// With `pressures_of` = another run folder (`--pressures-of RUN`), each design is tested at the
+// pressures that run's state at the same `at` gives it (the same rule: map(μ_j), or p* for its
+// collapsed design) instead of this run's: the policy of one seed on the design answers of another
+// (issue 18 §3's cross-seed check, fair to a d* whose p* the evaluated run never tried). The other
+// run's leading design is reported as `pressures_d*` beside this run's d* and runner-up. Output
+// then goes to DIR/evaluate/<at>_pressures_of_<basename of RUN>/.
+//
 // Output, in DIR/evaluate/<at>/:
 //   evaluate.toml   what was evaluated (the checkpoint, its t, phases, the design range)
 //   designs.csv     one row per design as it finishes (design order), appended and flushed: a
@@ -44,6 +51,7 @@ struct RunEvaluationOptions {
   bool force = false;            // start afresh even if the folder holds another evaluation
   bool progress = true;          // a line per design on stdout
   std::string plots_dir;         // folder of evaluate_ranking.gp ("" = none: no PNG)
+  std::string pressures_of;      // "" or another run folder whose state at `at` gives the pressures
 };
 
 struct RunEvaluationRow {
@@ -58,13 +66,15 @@ struct RunEvaluationRow {
   int episodes = 0;
   double seconds = 0.0;          // wall time of this design's episodes
   int rank = 0;                  // 1 = best test return (ranking only)
-  std::string role;              // "d*", "runner_up" or "" (ranking only)
+  std::string role;              // "d*", "runner_up", "pressures_d*" or "" (ranking only)
 };
 
 struct RunEvaluationSummary {
   std::string folder;            // DIR/evaluate/<at>
   std::int64_t t = 0;            // the evaluated state's timestep
   int leading_design = -1, runner_up = -1;
+  int pressures_leading_design = -1;      // the leading design of the `pressures_of` run's state (-1: none given)
+  std::int64_t pressures_t = -1;          // that state's timestep
   std::vector<RunEvaluationRow> ranking;  // best first
   int designs_run = 0, designs_before = 0;
   double wall_s = 0.0;
@@ -74,7 +84,8 @@ struct RunEvaluationSummary {
 
 // Throws InputError naming the file and the defect: no such run folder or checkpoint, a
 // checkpoint of another config, an `at` other than final/t1/t2, a design range outside 0..109 or
-// reversed, phases < 2, a folder that holds an evaluation with other settings (without force).
+// reversed, phases < 2, a folder that holds an evaluation with other settings (without force); a
+// `pressures_of` folder without config.toml or without the checkpoint of `at`.
 RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluationOptions& options);
 
 // `codesign evaluate`: reads DIR/config.toml (InputError if it is missing), evaluate_run, and
@@ -83,5 +94,9 @@ void evaluate_run_folder(const RunEvaluationOptions& options);
 
 // The checkpoint file of `at` in a run folder ("final" -> checkpoint.bin); InputError otherwise.
 std::string checkpoint_file_of(const std::string& at);
+
+// The folder under DIR/evaluate/ an evaluation writes: `at`, or `<at>_pressures_of_<name>` with
+// the basename of the `pressures_of` run folder.
+std::string evaluation_folder_name(const RunEvaluationOptions& options);
 
 }  // namespace codesign::run

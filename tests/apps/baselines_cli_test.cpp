@@ -141,6 +141,31 @@ TEST(BaselinesCli, EvaluateRanksARunsDesignsAndRefusesBadInput) {
             "rank,design,n,l_mm,w_mm,p1_kPa,p2_kPa,q,score,samples,mean_return,std_return,ci95,band_fraction,"
             "episodes,seconds,role");
   EXPECT_EQ(std::count(ranking.begin(), ranking.end(), '\n'), 4);  // header + 3 designs
+  // --pressures-of: a folder that is no run is one message, exit 2, nothing written; the run's own
+  // folder gives the same rows as the plain evaluation, in a folder of their own.
+  r = run_codesign("evaluate --run " + run.string() + " --at t2 --designs 20-22 --phases 2 --threads 1 --pressures-of " +
+                   (dir / "nothing").string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("codesign: error: --pressures-of: " + (dir / "nothing").string() + " has no config.toml"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(run / "evaluate" / "t2_pressures_of_nothing"));
+  r = run_codesign("evaluate --run " + run.string() + " --at t2 --designs 20-22 --phases 2 --threads 1 --pressures-of " +
+                   run.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("evaluate: d* of " + run.string() + " (its leading design at t2) j"), std::string::npos)
+      << r.output;
+  const std::string crossed = slurp(run / "evaluate" / "t2_pressures_of_run" / "ranking.csv");
+  const auto without_seconds = [](const std::string& csv) {  // the seconds column is wall time
+    std::istringstream in(csv);
+    std::string line, out;
+    while (std::getline(in, line)) {
+      const std::size_t last = line.rfind(','), before = line.rfind(',', last - 1);
+      out += line.substr(0, before) + line.substr(last) + "\n";
+    }
+    return out;
+  };
+  EXPECT_EQ(without_seconds(crossed), without_seconds(ranking));
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // ranked, resumable, and bad input refused with a message naming what is wrong.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 
 #include "base/errors.hpp"
 #include "run/checkpoint.hpp"
+#include "run/codesign_tables_writer.hpp"
 #include "run/run_evaluation.hpp"
 #include "test_files.hpp"
 #include "io/csv_table.hpp"
@@ -26,18 +28,20 @@ using namespace codesign::core;
 using namespace codesign::run;
 using codesign::test_files::slurp;
 
+fs::path run_tiny(const std::string& name, std::uint64_t seed) {
+  const fs::path d = fs::path(::testing::TempDir()) / (name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  RunOptions o;
+  o.dir = d.string();
+  o.threads = 2;
+  o.progress = false;
+  EXPECT_TRUE(run_codesign(test::tiny_run(seed), o).completed);
+  return d;
+}
+
 // One finished tiny run shared by the tests (T1 = 40, T2 = 80, 120 decisions).
 const fs::path& finished_run() {
-  static const fs::path dir = [] {
-    const fs::path d = fs::path(::testing::TempDir()) / ("codesign_evaluate_run_" + std::to_string(::getpid()));
-    fs::remove_all(d);
-    RunOptions o;
-    o.dir = d.string();
-    o.threads = 2;
-    o.progress = false;
-    EXPECT_TRUE(run_codesign(test::tiny_run(), o).completed);
-    return d;
-  }();
+  static const fs::path dir = run_tiny("codesign_evaluate_run", 7);
   return dir;
 }
 
@@ -166,6 +170,96 @@ TEST(RunEvaluation, BadInputNamesTheDefectAndChangesNothing) {
   EXPECT_EQ(slurp(folder / "designs.csv") + slurp(folder / "ranking.csv"), before);
   other.force = true;
   EXPECT_EQ(evaluate_run(test::tiny_run(), other).ranking.at(0).episodes, 3);
+}
+
+// --pressures-of: each design at the pressures another run's state gives it. With the run's own
+// folder as the other run, the rows are the plain evaluation's to the bit (same policy, same
+// pressures, same phases). The other run here is a copy of the finished run whose T2 checkpoint
+// has the latent means of designs 30-33 moved and design 31 made the leader (the one it fixed) (the tiny run's
+// distribution hardly moves in 120 decisions): each row's pressures are then the ones that
+// state's own evaluation uses, p_max·sigmoid(μ'), and design 31 is named as its d*.
+TEST(RunEvaluation, AnotherRunsPressuresAreThePressuresOfThatRunsState) {
+  RunEvaluationOptions plain = options("t2", 30, 33);
+  plain.force = true;
+  plain.phases = 2;
+  const RunEvaluationSummary own = evaluate_run(test::tiny_run(), plain);
+  RunEvaluationOptions self = plain;
+  self.pressures_of = finished_run().string();
+  const RunEvaluationSummary same = evaluate_run(test::tiny_run(), self);
+  EXPECT_EQ(same.folder, (finished_run() / "evaluate" / ("t2_pressures_of_" + finished_run().filename().string())).string());
+  EXPECT_EQ(same.pressures_t, own.t);
+  EXPECT_EQ(same.pressures_leading_design, own.leading_design);
+  ASSERT_EQ(same.ranking.size(), own.ranking.size());
+  for (std::size_t i = 0; i < own.ranking.size(); ++i) {
+    EXPECT_EQ(same.ranking[i].design, own.ranking[i].design);
+    EXPECT_EQ(same.ranking[i].p1_kPa, own.ranking[i].p1_kPa);
+    EXPECT_EQ(same.ranking[i].mean_return, own.ranking[i].mean_return);
+  }
+  EXPECT_NE(slurp(fs::path(same.folder) / "evaluate.toml").find("pressures_of = "), std::string::npos);
+  EXPECT_EQ(slurp(fs::path(own.folder) / "evaluate.toml").find("pressures_of"), std::string::npos);
+
+  // The other run: the same folder with its T2 state's distribution changed.
+  const fs::path moved = fs::path(::testing::TempDir()) / ("codesign_evaluate_moved_" + std::to_string(::getpid()));
+  fs::remove_all(moved);
+  fs::create_directories(moved);
+  for (const char* f : {"config.toml", "checkpoint_t2.bin"}) fs::copy_file(finished_run() / f, moved / f);
+  const RunSettings tiny = test::tiny_run();
+  const std::uint64_t fp = fingerprint(resolved_run_config(tiny.spec, tiny.scene, tiny.solver, tiny.loop));
+  Checkpoint c = load_checkpoint((moved / "checkpoint_t2.bin").string(), fp);
+  for (int j = 30; j <= 33; ++j) c.loop.distribution.mu[static_cast<std::size_t>(j)] += Eigen::Vector2d(0.3 * (j - 29), -0.5);
+  c.loop.distribution.score[31] = 1.0 + c.loop.distribution.score.maxCoeff();
+  if (c.loop.distribution.collapsed) {  // the tiny run collapses at T2: make 31 the design it fixed
+    c.loop.distribution.best_design = 31;
+    c.loop.distribution.best_latent = c.loop.distribution.mu[31];
+  }
+  save_checkpoint((moved / "checkpoint_t2.bin").string(), c);
+  RunEvaluationOptions theirs = plain;
+  theirs.dir = moved.string();
+  const RunEvaluationSummary other_own = evaluate_run(tiny, theirs);
+  ASSERT_EQ(other_own.leading_design, 31);
+
+  RunEvaluationOptions cross = plain;
+  cross.pressures_of = moved.string();
+  const RunEvaluationSummary crossed = evaluate_run(tiny, cross);
+  EXPECT_EQ(crossed.t, own.t);
+  EXPECT_EQ(crossed.pressures_leading_design, 31);
+  const auto row_of = [](const RunEvaluationSummary& s, int j) {
+    for (const RunEvaluationRow& r : s.ranking)
+      if (r.design == j) return r;
+    ADD_FAILURE() << "no row for design " << j;
+    return RunEvaluationRow{};
+  };
+  const double p_max = tiny.loop.codesign.distribution.pressure_max_kPa;
+  for (int j = 30; j <= 33; ++j) {
+    const Eigen::Vector2d mu = c.loop.distribution.mu[static_cast<std::size_t>(j)];
+    const double p1 = p_max / (1.0 + std::exp(-mu(0)));
+    EXPECT_NEAR(row_of(crossed, j).p1_kPa, p1, 1e-12 * p_max) << j;
+    EXPECT_NE(row_of(crossed, j).p1_kPa, row_of(own, j).p1_kPa) << j;
+    EXPECT_EQ(row_of(crossed, j).p1_kPa, row_of(other_own, j).p1_kPa) << j;
+    EXPECT_EQ(row_of(crossed, j).p2_kPa, row_of(other_own, j).p2_kPa) << j;
+    EXPECT_EQ(row_of(crossed, j).q, row_of(own, j).q) << j;  // the columns of the policy's run stay its own
+    EXPECT_EQ(row_of(crossed, j).mean_return == row_of(own, j).mean_return, false) << j;
+  }
+  if (own.leading_design != 31 && own.runner_up != 31) {
+    EXPECT_EQ(row_of(crossed, 31).role, "pressures_d*");
+  }
+}
+
+TEST(RunEvaluation, PressuresOfAFolderThatIsNoRunIsRefused) {
+  const auto message = [](const RunEvaluationOptions& o) -> std::string {
+    try {
+      evaluate_run(test::tiny_run(), o);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  RunEvaluationOptions o = options("t2", 0, 0);
+  o.pressures_of = (finished_run() / "no_such_run").string();
+  const std::string m = message(o);
+  EXPECT_NE(m.find("--pressures-of: "), std::string::npos) << m;
+  EXPECT_NE(m.find("no_such_run has no config.toml"), std::string::npos) << m;
+  EXPECT_FALSE(fs::exists(finished_run() / "evaluate" / "t2_pressures_of_no_such_run"));
 }
 
 }  // namespace
