@@ -4,7 +4,10 @@
 #   * per seed: d*, p*, its test return (result.toml), H(q_disc) at T2 and its largest
 #     probability (the first distribution.csv row with t >= T2), and the rank of d* in its own
 #     T2 evaluation of all designs (evaluate/t2/ranking.csv);
-#   * the rank of each seed's d* in every other seed's T2 evaluation;
+#   * the rank of each seed's d* in every other seed's T2 evaluation, and, where it exists, in the
+#     other seed's T2 evaluation at this seed's pressures (`codesign evaluate --run OTHER --at t2
+#     --pressures-of THIS`: every design at the pressures THIS run's T2 state gives it, so d* runs
+#     at its own pressure; evaluate/t2_pressures_of_<THIS>/ranking.csv);
 #   * the acceptance of issue 18 §3: H(q_disc) at T2 <= ln 3, each d* in the top 3 of its own T2
 #     evaluation, each d* in the top 5 of the others'.
 #   bash scripts/design_seeds.sh runs paper_best_gru "1 2 3"
@@ -57,11 +60,12 @@ for s in $seeds; do
   echo "| $s | $label | $p | $r | $(awk -v h="$h" -v q="$q" 'BEGIN { printf "%.3f (%.1f %%)", h, 100 * q }') | $rk |"
 done
 echo
-echo "| d* of seed | rank in the T2 evaluation of seed ... |"
-echo "|---|---|"
+echo "| d* of seed | rank in the T2 evaluation of seed ... (at that seed's pressures) | ... at this seed's pressures (--pressures-of) |"
+echo "|---|---|---|"
+fair=1
 for s in $seeds; do
   [ -n "${dstar[$s]:-}" ] || continue
-  row=""
+  row=""; row2=""
   for o in $seeds; do
     [ "$o" = "$s" ] && continue
     f="$root/$arm-s$o/evaluate/t2/ranking.csv"
@@ -71,8 +75,15 @@ for s in $seeds; do
     else
       row="$row seed $o: —;"; ok=0
     fi
+    f="$root/$arm-s$o/evaluate/t2_pressures_of_$arm-s$s/ranking.csv"
+    if [ -f "$f" ]; then
+      rk=$(rank_in "$f" "${dstar[$s]}"); row2="$row2 seed $o: ${rk:-—} of $(count_in "$f");"
+      [ -n "$rk" ] && [ "$rk" -le 5 ] || fair=0
+    else
+      row2="$row2 seed $o: —;"; fair=0
+    fi
   done
-  echo "| $s (j${dstar[$s]}) |${row%;} |"
+  echo "| $s (j${dstar[$s]}) |${row%;} |${row2%;} |"
 done
 echo
 nseeds=$(echo $seeds | wc -w)
@@ -82,4 +93,11 @@ elif [ "$ok" = 1 ]; then
   echo "issue 18 §3 acceptance: met (H at T2 <= ln 3 = $(awk -v l="$ln3" 'BEGIN { printf "%.4f", l }'); each d* top 3 of its own T2 evaluation, top 5 of the others')"
 else
   echo "issue 18 §3 acceptance: NOT met (or a seed's run or T2 evaluation is missing)"
+fi
+if [ "$nseeds" -ge 3 ]; then
+  if [ "$fair" = 1 ]; then
+    echo "cross-seed check at each d*'s own pressures (--pressures-of): each d* in the top 5 of every other seed's policy"
+  else
+    echo "cross-seed check at each d*'s own pressures (--pressures-of): NOT met (or an evaluation is missing)"
+  fi
 fi
