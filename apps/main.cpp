@@ -7,8 +7,11 @@
 #include <string>
 #include <vector>
 
+#include <optional>
+
 #include "commands.hpp"
 #include "base/errors.hpp"
+#include "cluster/mpi_world.hpp"
 
 namespace {
 
@@ -26,8 +29,42 @@ std::vector<std::string> with_default_command(int argc, char** argv) {
 
 }  // namespace
 
+// Runs the selected command; returns its exit status. Errors are one message on stderr (status 2
+// for bad input and unwritable files, 1 for internal errors).
+int run_command(int argc, char** argv);
+
 int main(int argc, char** argv) {
+  // Under an MPI launcher (mpirun, srun) every rank runs this binary; only `codesign run` uses
+  // them (docs/cluster.md). Without a launcher MPI is never touched.
+  std::optional<codesign::cluster::MpiSession> mpi;
+  if (codesign::cluster::launched_by_mpi()) mpi.emplace(&argc, &argv);
+  const int rank = codesign::cluster::world_rank(), ranks = codesign::cluster::world_size();
+  if (ranks > 1) {
+    const std::vector<std::string> args = with_default_command(argc, argv);
+    if (args.empty() || args.front() != "run") {  // every rank ends here alike: no one waits
+      if (rank == 0)
+        std::fprintf(stderr, "codesign: error: only `codesign run` (or the main job) runs on several MPI ranks; "
+                             "run '%s' without mpirun\n", args.empty() ? "" : args.front().c_str());
+      return 2;
+    }
+  }
+  const int status = run_command(argc, argv);
+  // Rank 0 failing (status 1 or 2), or another rank failing inside (status 1), ends the whole job:
+  // the others may be waiting for it. Bad input fails every rank alike before any waits, so the
+  // other ranks just return 2 beside rank 0. A run stopped in order (4, 128 + signal) has released
+  // the other ranks already (its rollout pool's destructor): they finish as usual and the launcher
+  // reports rank 0's status.
+  if (ranks > 1 && (status == 1 || (status == 2 && rank == 0))) {
+    std::fflush(stdout);
+    std::fflush(stderr);
+    codesign::cluster::abort_world(status);
+  }
+  return status;
+}
+
+int run_command(int argc, char** argv) {
   using namespace codesign;
+  const int rank = cluster::world_rank();
   CLI::App root{"codesign: co-design of a soft pneumatic whisker and its feedback controller"};
   root.set_version_flag("--version", std::string("codesign 0.1.0"));
   root.require_subcommand(1);
@@ -82,7 +119,8 @@ int main(int argc, char** argv) {
     }
     return run();
   } catch (const InputError& e) {
-    std::fprintf(stderr, "codesign: error: %s\n", e.what());
+    // Every rank reads the same input: rank 0 says what is wrong, once.
+    if (rank == 0) std::fprintf(stderr, "codesign: error: %s\n", e.what());
     return 2;
   } catch (const FileError& e) {  // a file that could not be written: disk full, permissions
     std::fprintf(stderr, "codesign: error: %s\n", e.what());

@@ -4,10 +4,12 @@
 #include <memory>
 
 #include "base/errors.hpp"
+#include "cluster/mpi_world.hpp"
 #include "io/run_lock.hpp"
 #include "io/toml_reader.hpp"
 #include "run/episode_render.hpp"
 #include "run/figures.hpp"
+#include "run/rollout_backend.hpp"
 #include "run/run.hpp"
 #include "run/run_config.hpp"
 #include "run/stop_signals.hpp"
@@ -25,6 +27,14 @@ int run_main_job(const MainJobOptions& o) {
   // Default run folder: runs/<config file name without extension>.
   const std::string out = o.out.empty() ? "runs/" + std::filesystem::path(o.config).stem().string() : o.out;
   const RunSettings s = run_settings(setup, io::TableReader::input_text(o.config));
+  // Under an MPI launcher (docs/cluster.md) rank 0 is the run; every other rank only steps its
+  // slice of the rollouts and touches no file.
+  const int rank = cluster::world_rank(), ranks = cluster::world_size();
+  check_rollout_ranks(s.loop, ranks);
+  if (rank != 0) {
+    serve_rollouts(s, static_cast<std::size_t>(o.threads), rank, ranks);
+    return 0;
+  }
   // SIGTERM / SIGINT stop the run at the next iteration's end with a checkpoint (stop_signals.hpp),
   // and the run folder stays locked from here through the frames and figures.
   const StopSignals signals;
@@ -35,6 +45,7 @@ int run_main_job(const MainJobOptions& o) {
   ro.resume = o.resume;
   ro.force = o.force;
   ro.threads = static_cast<std::size_t>(o.threads);
+  ro.ranks = ranks;
   ro.progress = !o.quiet;
   ro.stop_after = o.stop_after;
   ro.telemetry_url = o.telemetry ? *o.telemetry : setup.telemetry_url;

@@ -30,6 +30,7 @@
 #include "rl/policy_file.hpp"
 #include "run/checkpoint.hpp"
 #include "run/codesign_tables_writer.hpp"
+#include "run/rollout_backend.hpp"
 #include "run/run_folder.hpp"
 #include "run/stop_signals.hpp"
 
@@ -480,9 +481,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   const std::optional<Checkpoint> ckpt = prepare_run_folder(settings, options, resolved, fp);
   auto sims = std::make_shared<SimulatorPool>(settings.spec, settings.scene, settings.solver);
   const LoopConfig& lc = settings.loop;
-  auto envs = std::make_unique<ThreadEnvPool>(sims, lc.task, static_cast<std::size_t>(lc.codesign.designs_per_update),
-                                              options.threads, lc.ppo.privileged_critic);
-  OuterLoop loop(lc, std::move(envs));
+  OuterLoop loop(lc, make_rollout_pool(sims, lc, options.threads, options.ranks));
   double wall_before = 0.0;
   if (ckpt) {
     try {

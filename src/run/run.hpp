@@ -57,6 +57,9 @@ struct RunOptions {
   bool resume = false;
   bool force = false;           // start afresh even if DIR holds an earlier run
   std::size_t threads = 0;      // rollout and evaluation threads (0: all cores)
+  // MPI ranks stepping the rollouts (rollout_backend.hpp): 1 = this process alone; N > 1 = this is
+  // rank 0 of N and ranks 1..N-1 are in serve_rollouts. Results do not depend on it.
+  int ranks = 1;
   bool progress = true;         // progress line on stdout
   // LCM telemetry URL ("" = off): episodes, PPO updates and distribution updates as they
   // happen, decimated simulation steps of one training environment, and the simulation steps of

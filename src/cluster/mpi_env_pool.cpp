@@ -1,0 +1,291 @@
+#include "cluster/mpi_env_pool.hpp"
+
+#include <stdexcept>
+#include <string>
+
+#include <mpi.h>
+
+namespace codesign::cluster {
+
+namespace {
+
+// Rank 0 -> rank r: a command header {command, flag}, then its payload (if any), all tag kCommand
+// or kPayload; rank r -> rank 0: the reply (kReply) and, after a step, the end reasons (kReasons).
+enum Command : int { kStop = 0, kStart = 1, kStep = 2, kTimes = 3 };
+constexpr int kTagCommand = 101, kTagPayload = 102, kTagReply = 103, kTagReasons = 104;
+constexpr int kSetupFields = 6;  // design, p1, p2, plate phase, theta0, fault
+constexpr int kStepFields = 5;   // reward, terminated, truncated, in_band, has terminal obs
+
+void check(int rc, const char* what) {
+  if (rc == MPI_SUCCESS) return;
+  char text[MPI_MAX_ERROR_STRING];
+  int len = 0;
+  MPI_Error_string(rc, text, &len);
+  throw std::runtime_error(std::string("MPI rollout backend: ") + what + ": " + std::string(text, static_cast<std::size_t>(len)));
+}
+
+void send_doubles(const std::vector<double>& v, int to, int tag) {
+  check(MPI_Send(v.data(), static_cast<int>(v.size()), MPI_DOUBLE, to, tag, MPI_COMM_WORLD), "send");
+}
+
+std::vector<double> recv_doubles(std::size_t n, int from, int tag) {
+  std::vector<double> v(n);
+  MPI_Status st;
+  check(MPI_Recv(v.data(), static_cast<int>(n), MPI_DOUBLE, from, tag, MPI_COMM_WORLD, &st), "receive");
+  int got = 0;
+  MPI_Get_count(&st, MPI_DOUBLE, &got);
+  if (static_cast<std::size_t>(got) != n)
+    throw std::runtime_error("MPI rollout backend: a message of " + std::to_string(got) + " numbers where " +
+                             std::to_string(n) + " were expected");
+  return v;
+}
+
+void send_command(int to, Command c, int flag) {
+  const int header[2] = {c, flag};
+  check(MPI_Send(header, 2, MPI_INT, to, kTagCommand, MPI_COMM_WORLD), "send a command");
+}
+
+// The end reasons of a slice as one '\n'-separated string (reasons hold no newline).
+std::string join_reasons(const std::vector<std::string>& reasons) {
+  std::string s;
+  for (std::size_t i = 0; i < reasons.size(); ++i) {
+    if (reasons[i].find('\n') != std::string::npos) throw std::runtime_error("MPI rollout backend: a reason with a newline");
+    if (i) s += '\n';
+    s += reasons[i];
+  }
+  return s;
+}
+
+std::vector<std::string> split_reasons(const std::string& s, std::size_t n) {
+  std::vector<std::string> out;
+  std::size_t from = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t to = i + 1 < n ? s.find('\n', from) : s.size();
+    if (to == std::string::npos) throw std::runtime_error("MPI rollout backend: too few end reasons in a reply");
+    out.push_back(s.substr(from, to - from));
+    from = to + 1;
+  }
+  return out;
+}
+
+std::string recv_string(int from, int tag) {
+  MPI_Status st;
+  check(MPI_Probe(from, tag, MPI_COMM_WORLD, &st), "probe");
+  int n = 0;
+  MPI_Get_count(&st, MPI_CHAR, &n);
+  std::string s(static_cast<std::size_t>(n), '\0');
+  check(MPI_Recv(s.data(), n, MPI_CHAR, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receive the end reasons");
+  return s;
+}
+
+std::vector<double> pack_setups(const std::vector<core::EpisodeSetup>& setups, EnvSlice s) {
+  std::vector<double> v;
+  v.reserve(s.count * kSetupFields);
+  for (std::size_t i = s.first; i < s.first + s.count; ++i) {
+    const core::EpisodeSetup& e = setups[i];
+    v.insert(v.end(), {static_cast<double>(e.design), e.p1_kPa, e.p2_kPa, e.plate_phase_rad, e.theta0_rad,
+                       static_cast<double>(static_cast<int>(e.fault))});
+  }
+  return v;
+}
+
+std::vector<core::EpisodeSetup> unpack_setups(const std::vector<double>& v) {
+  std::vector<core::EpisodeSetup> out(v.size() / kSetupFields);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const double* f = &v[i * kSetupFields];
+    out[i].design = static_cast<int>(f[0]);
+    out[i].p1_kPa = f[1];
+    out[i].p2_kPa = f[2];
+    out[i].plate_phase_rad = f[3];
+    out[i].theta0_rad = f[4];
+    out[i].fault = static_cast<core::Fault>(static_cast<int>(f[5]));
+  }
+  return out;
+}
+
+std::vector<double> columns(const Eigen::MatrixXd& m, EnvSlice s) {
+  std::vector<double> v(static_cast<std::size_t>(m.rows()) * s.count);
+  Eigen::Map<Eigen::MatrixXd>(v.data(), m.rows(), static_cast<Eigen::Index>(s.count)) =
+      m.middleCols(static_cast<Eigen::Index>(s.first), static_cast<Eigen::Index>(s.count));
+  return v;
+}
+
+// One slice's step result, packed: per environment kStepFields numbers, its observation and its
+// terminal observation (zeros where the episode did not end).
+std::vector<double> pack_step(const rl::VecStepResult& r, const core::EnvPool& pool) {
+  const std::size_t n = pool.size(), d = static_cast<std::size_t>(r.obs.rows());
+  std::vector<double> v;
+  v.reserve(n * (kStepFields + 2 * d));
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool term = r.terminal_obs[i].has_value();
+    v.insert(v.end(), {r.rewards(static_cast<Eigen::Index>(i)), static_cast<double>(r.terminated[i]),
+                       static_cast<double>(r.truncated[i]), static_cast<double>(r.done(i) ? pool.last_in_band(i) : 0),
+                       term ? 1.0 : 0.0});
+    const auto col = r.obs.col(static_cast<Eigen::Index>(i));
+    v.insert(v.end(), col.data(), col.data() + d);
+    if (term)
+      v.insert(v.end(), r.terminal_obs[i]->data(), r.terminal_obs[i]->data() + d);
+    else
+      v.insert(v.end(), d, 0.0);
+  }
+  return v;
+}
+
+}  // namespace
+
+EnvSlice env_slice(std::size_t n_envs, int rank, int ranks) {
+  if (ranks < 1 || rank < 0 || rank >= ranks)
+    throw std::invalid_argument("env_slice: rank " + std::to_string(rank) + " of " + std::to_string(ranks));
+  const auto n = static_cast<std::size_t>(ranks), r = static_cast<std::size_t>(rank);
+  if (n_envs < n)
+    throw std::invalid_argument(std::to_string(ranks) + " MPI ranks for " + std::to_string(n_envs) +
+                                " environments (designs_per_update): every rank needs at least one");
+  const std::size_t base = n_envs / n, extra = n_envs % n;
+  return {r * base + std::min(r, extra), base + (r < extra ? 1 : 0)};
+}
+
+MpiEnvPool::MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n_envs, int ranks)
+    : local_(std::move(local)), n_envs_(n_envs), ranks_(ranks) {
+  for (int r = 0; r < ranks; ++r) slices_.push_back(env_slice(n_envs, r, ranks));
+  if (!local_ || local_->size() != slices_[0].count)
+    throw std::invalid_argument("MpiEnvPool: rank 0's pool must hold its slice of " + std::to_string(slices_[0].count) +
+                                " environments");
+  const auto n = static_cast<Eigen::Index>(n_envs);
+  result_.obs.resize(static_cast<Eigen::Index>(spec().observation.dim()), n);
+  result_.rewards.resize(n);
+  result_.terminated.assign(n_envs, 0);
+  result_.truncated.assign(n_envs, 0);
+  result_.terminal_obs.assign(n_envs, std::nullopt);
+  result_.reasons.assign(n_envs, {});
+  last_in_band_.assign(n_envs, 0);
+}
+
+MpiEnvPool::~MpiEnvPool() {
+  for (int r = 1; r < ranks_; ++r) {
+    const int header[2] = {kStop, 0};
+    MPI_Send(header, 2, MPI_INT, r, kTagCommand, MPI_COMM_WORLD);  // no throw from a destructor
+  }
+}
+
+Eigen::MatrixXd MpiEnvPool::start(const std::vector<core::EpisodeSetup>& setups) {
+  if (setups.size() != n_envs_) throw std::invalid_argument("MpiEnvPool::start: one setup per environment");
+  for (int r = 1; r < ranks_; ++r) {
+    send_command(r, kStart, 0);
+    send_doubles(pack_setups(setups, slices_[r]), r, kTagPayload);
+  }
+  const std::vector<core::EpisodeSetup> mine(setups.begin(), setups.begin() + static_cast<std::ptrdiff_t>(slices_[0].count));
+  const Eigen::Index d = static_cast<Eigen::Index>(spec().observation.dim());
+  Eigen::MatrixXd obs(d, static_cast<Eigen::Index>(n_envs_));
+  obs.leftCols(static_cast<Eigen::Index>(slices_[0].count)) = local_->start(mine);
+  for (int r = 1; r < ranks_; ++r) {
+    const EnvSlice s = slices_[r];
+    const std::vector<double> v = recv_doubles(static_cast<std::size_t>(d) * s.count, r, kTagReply);
+    obs.middleCols(static_cast<Eigen::Index>(s.first), static_cast<Eigen::Index>(s.count)) =
+        Eigen::Map<const Eigen::MatrixXd>(v.data(), d, static_cast<Eigen::Index>(s.count));
+  }
+  return obs;
+}
+
+const rl::VecStepResult& MpiEnvPool::step(const Eigen::MatrixXd& actions, bool restart) {
+  if (actions.cols() != static_cast<Eigen::Index>(n_envs_))
+    throw std::invalid_argument("MpiEnvPool::step: one action column per environment");
+  for (int r = 1; r < ranks_; ++r) {
+    send_command(r, kStep, restart ? 1 : 0);
+    send_doubles(columns(actions, slices_[r]), r, kTagPayload);
+  }
+  // Rank 0's slice, while the other ranks step theirs.
+  const auto n0 = static_cast<Eigen::Index>(slices_[0].count);
+  const rl::VecStepResult& mine = local_->step(actions.leftCols(n0), restart);
+  result_.obs.leftCols(n0) = mine.obs;
+  result_.rewards.head(n0) = mine.rewards;
+  for (std::size_t i = 0; i < slices_[0].count; ++i) {
+    result_.terminated[i] = mine.terminated[i];
+    result_.truncated[i] = mine.truncated[i];
+    result_.terminal_obs[i] = mine.terminal_obs[i];
+    result_.reasons[i] = mine.reasons[i];
+    if (mine.done(i)) last_in_band_[i] = local_->last_in_band(i);
+  }
+  const std::size_t d = spec().observation.dim();
+  for (int r = 1; r < ranks_; ++r) {
+    const EnvSlice s = slices_[r];
+    const std::vector<double> v = recv_doubles(s.count * (kStepFields + 2 * d), r, kTagReply);
+    const std::vector<std::string> reasons = split_reasons(recv_string(r, kTagReasons), s.count);
+    for (std::size_t k = 0; k < s.count; ++k) {
+      const std::size_t i = s.first + k;
+      const auto c = static_cast<Eigen::Index>(i);
+      const double* f = &v[k * (kStepFields + 2 * d)];
+      result_.rewards(c) = f[0];
+      result_.terminated[i] = f[1] != 0.0 ? 1 : 0;
+      result_.truncated[i] = f[2] != 0.0 ? 1 : 0;
+      if (result_.done(i)) last_in_band_[i] = static_cast<int>(f[3]);
+      result_.obs.col(c) = Eigen::Map<const Eigen::VectorXd>(f + kStepFields, static_cast<Eigen::Index>(d));
+      if (f[4] != 0.0)
+        result_.terminal_obs[i] = Eigen::Map<const Eigen::VectorXd>(f + kStepFields + d, static_cast<Eigen::Index>(d));
+      else
+        result_.terminal_obs[i].reset();
+      result_.reasons[i] = reasons[k];
+    }
+  }
+  return result_;
+}
+
+double MpiEnvPool::settle_seconds() const {
+  double s = local_->settle_seconds();
+  for (int r = 1; r < ranks_; ++r) {
+    send_command(r, kTimes, 0);
+    s += recv_doubles(2, r, kTagReply)[0];
+  }
+  return s;
+}
+
+double MpiEnvPool::step_seconds() const {
+  double s = local_->step_seconds();
+  for (int r = 1; r < ranks_; ++r) {
+    send_command(r, kTimes, 0);
+    s += recv_doubles(2, r, kTagReply)[1];
+  }
+  return s;
+}
+
+void MpiEnvPool::set_step_observer(std::size_t i, StepObserver observer, int every) {
+  if (i >= slices_[0].count)
+    throw std::invalid_argument("MpiEnvPool: environment " + std::to_string(i) +
+                                " is stepped on another rank; live telemetry follows rank 0's environments only");
+  local_->set_step_observer(i, std::move(observer), every);
+}
+
+void serve_env_pool(core::ThreadEnvPool& local) {
+  const std::size_t n = local.size(), a = local.spec().action.dim();
+  for (;;) {
+    int header[2] = {0, 0};
+    check(MPI_Recv(header, 2, MPI_INT, 0, kTagCommand, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receive a command");
+    switch (header[0]) {
+      case kStop:
+        return;
+      case kStart: {
+        const std::vector<core::EpisodeSetup> setups = unpack_setups(recv_doubles(n * kSetupFields, 0, kTagPayload));
+        const Eigen::MatrixXd obs = local.start(setups);
+        send_doubles(std::vector<double>(obs.data(), obs.data() + obs.size()), 0, kTagReply);
+        break;
+      }
+      case kStep: {
+        const std::vector<double> v = recv_doubles(n * a, 0, kTagPayload);
+        const Eigen::MatrixXd actions = Eigen::Map<const Eigen::MatrixXd>(v.data(), static_cast<Eigen::Index>(a),
+                                                                          static_cast<Eigen::Index>(n));
+        const rl::VecStepResult& r = local.step(actions, header[1] != 0);
+        send_doubles(pack_step(r, local), 0, kTagReply);
+        const std::string reasons = join_reasons(r.reasons);
+        check(MPI_Send(reasons.data(), static_cast<int>(reasons.size()), MPI_CHAR, 0, kTagReasons, MPI_COMM_WORLD),
+              "send the end reasons");
+        break;
+      }
+      case kTimes:
+        send_doubles({local.settle_seconds(), local.step_seconds()}, 0, kTagReply);
+        break;
+      default:
+        throw std::runtime_error("MPI rollout backend: unknown command " + std::to_string(header[0]) + " from rank 0");
+    }
+  }
+}
+
+}  // namespace codesign::cluster

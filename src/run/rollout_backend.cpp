@@ -1,0 +1,49 @@
+#include "run/rollout_backend.hpp"
+
+#include <csignal>
+#include <stdexcept>
+
+#include "base/errors.hpp"
+#include "cluster/mpi_env_pool.hpp"
+
+namespace codesign::run {
+
+namespace {
+
+cluster::EnvSlice slice_of(const core::LoopConfig& lc, int rank, int ranks) {
+  try {
+    return cluster::env_slice(static_cast<std::size_t>(lc.codesign.designs_per_update), rank, ranks);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("mpirun -np " + std::to_string(ranks) + ": codesign.designs_per_update = " +
+                     std::to_string(lc.codesign.designs_per_update) +
+                     " environments cannot give every rank one; allowed: 1 to " +
+                     std::to_string(lc.codesign.designs_per_update) + " ranks");
+  }
+}
+
+}  // namespace
+
+void check_rollout_ranks(const core::LoopConfig& lc, int ranks) {
+  if (ranks > 1) slice_of(lc, 0, ranks);
+}
+
+std::unique_ptr<core::EnvPool> make_rollout_pool(std::shared_ptr<core::SimulatorPool> sims, const core::LoopConfig& lc,
+                                                 std::size_t threads, int ranks) {
+  const auto n = static_cast<std::size_t>(lc.codesign.designs_per_update);
+  if (ranks <= 1) return std::make_unique<core::ThreadEnvPool>(sims, lc.task, n, threads, lc.ppo.privileged_critic);
+  const cluster::EnvSlice mine = slice_of(lc, 0, ranks);
+  auto local = std::make_unique<core::ThreadEnvPool>(sims, lc.task, mine.count, threads, lc.ppo.privileged_critic);
+  return std::make_unique<cluster::MpiEnvPool>(std::move(local), n, ranks);
+}
+
+void serve_rollouts(const RunSettings& s, std::size_t threads, int rank, int ranks) {
+  std::signal(SIGINT, SIG_IGN);
+  std::signal(SIGTERM, SIG_IGN);
+  const core::LoopConfig& lc = s.loop;
+  const cluster::EnvSlice mine = slice_of(lc, rank, ranks);
+  auto sims = std::make_shared<core::SimulatorPool>(s.spec, s.scene, s.solver);
+  core::ThreadEnvPool local(sims, lc.task, mine.count, threads, lc.ppo.privileged_critic);
+  cluster::serve_env_pool(local);
+}
+
+}  // namespace codesign::run

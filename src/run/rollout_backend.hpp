@@ -1,0 +1,29 @@
+#pragma once
+// The rollout backend of a run (Algorithm 1's ψ environments): in this process on `threads`
+// threads (core::ThreadEnvPool), or spread over the ranks of an MPI launch
+// (cluster::MpiEnvPool, docs/cluster.md). Results are the same either way.
+#include <cstddef>
+#include <memory>
+
+#include "codesign/env_pool.hpp"
+#include "codesign/simulator_pool.hpp"
+#include "run/run.hpp"
+
+namespace codesign::run {
+
+// InputError unless every one of `ranks` gets at least one of the run's environments
+// (designs_per_update): checked by every rank before any of them starts.
+void check_rollout_ranks(const core::LoopConfig& lc, int ranks);
+
+// Rank 0's pool: every environment here when ranks == 1, else its slice here and the others on
+// ranks 1..ranks-1, which must be in serve_rollouts. InputError if ranks exceed the environments.
+std::unique_ptr<core::EnvPool> make_rollout_pool(std::shared_ptr<core::SimulatorPool> sims, const core::LoopConfig& lc,
+                                                 std::size_t threads, int ranks);
+
+// Ranks 1..ranks-1: this rank's slice of the run's environments (its own simulators, `threads`
+// threads), stepped for rank 0 until its pool is gone. SIGINT and SIGTERM are ignored here: the
+// launcher delivers them to every rank, and rank 0 answers them by finishing its iteration and
+// checkpointing, which needs this rank until then.
+void serve_rollouts(const RunSettings& settings, std::size_t threads, int rank, int ranks);
+
+}  // namespace codesign::run
