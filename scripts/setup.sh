@@ -13,6 +13,7 @@ PACKAGES=(
   libgmsh-dev libtomlplusplus-dev libcli11-dev
   libgtest-dev libbenchmark-dev
   gnuplot-nox
+  libopenmpi-dev openmpi-bin
   clang libclang-rt-14-dev
 )
 
