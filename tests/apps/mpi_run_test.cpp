@@ -5,10 +5,16 @@
 // loopback interface only.
 #include <gtest/gtest.h>
 
+#include <signal.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
+#include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <thread>
+#include <vector>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -38,12 +44,19 @@ std::string without_wall(const std::string& toml) {
   return out;
 }
 
+// The launch of `args` on `ranks` ranks of this machine. Open MPI refuses root unless told (CI
+// containers run as root); on SIGTERM mpirun gives the ranks 10 s before it kills them.
+constexpr const char* kMpiEnv = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ";
+
+std::string mpi_command(int ranks, const std::string& args) {
+  return std::string(CODESIGN_MPIEXEC) + " -np " +
+         std::to_string(ranks) +
+         " --oversubscribe --mca btl self,vader --mca oob_tcp_if_include lo --mca odls_base_sigkill_timeout 10 " +
+         CODESIGN_BINARY + " " + args;
+}
+
 RunResult run_mpi(int ranks, const std::string& args) {
-  // Open MPI refuses root unless told; CI containers run as root.
-  const std::string cmd = std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") + CODESIGN_MPIEXEC +
-                          " -np " + std::to_string(ranks) +
-                          " --oversubscribe --mca btl self,vader --mca oob_tcp_if_include lo " + CODESIGN_BINARY + " " +
-                          args + " 2>&1";
+  const std::string cmd = kMpiEnv + mpi_command(ranks, args) + " 2>&1";
   RunResult r;
   FILE* p = popen(cmd.c_str(), "r");
   if (p == nullptr) return r;
@@ -76,6 +89,100 @@ TEST(MpiRun, TwoAndThreeRanksWriteTheRunFolderOfOneProcess) {
     EXPECT_EQ(without_wall(slurp(out / "result.toml")), without_wall(slurp(dir / "one" / "result.toml")))
         << ranks << " ranks";
     EXPECT_FALSE(fs::exists(out / ".lock"));
+  }
+}
+
+// The launch of `cmd` through /bin/sh (exec'd, so the pid is mpirun's), output to `log`.
+pid_t spawn_mpi(const std::string& cmd, const fs::path& log) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const std::string line = std::string(kMpiEnv) + "exec " + cmd + " > '" + log.string() + "' 2>&1";
+    ::execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr));
+    std::_Exit(127);
+  }
+  return pid;
+}
+
+int wait_exit(pid_t pid) {
+  int st = 0;
+  if (::waitpid(pid, &st, 0) != pid) return -1;
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+// The pid of MPI rank `rank` of the run writing `out` (its command line names `out`), 0 if none.
+pid_t rank_pid(const fs::path& out, int rank) {
+  const std::string want = "OMPI_COMM_WORLD_RANK=" + std::to_string(rank);
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator("/proc", ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    const std::string cmdline = slurp(e.path() / "cmdline"), environ = slurp(e.path() / "environ");
+    if (cmdline.find(out.string()) == std::string::npos || cmdline.find("mpiexec") != std::string::npos) continue;
+    std::size_t from = 0;
+    while (from < environ.size()) {
+      const std::size_t to = environ.find('\0', from);
+      if (environ.compare(from, (to == std::string::npos ? environ.size() : to) - from, want) == 0)
+        return static_cast<pid_t>(std::stol(name));
+      if (to == std::string::npos) break;
+      from = to + 1;
+    }
+  }
+  return 0;
+}
+
+bool wait_for(const fs::path& f, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (!fs::exists(f))
+    if (std::chrono::steady_clock::now() > end) return false;
+    else std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  return true;
+}
+
+// A scheduler's SIGTERM to mpirun, and a rank killed outright: either way the run folder keeps a
+// checkpoint and its lock is not in the way, and `--resume` under mpirun ends with the files of
+// an uninterrupted one-process run.
+TEST(MpiRun, StoppedOrBrokenRunsResumeToTheUninterruptedRun) {
+  const fs::path dir = codesign::test::scratch_dir("codesign_mpi_", "stop");
+  codesign::test::TinyRun t = codesign::test::TinyRun::minimal();
+  t.total_timesteps = 240;  // 30 iterations of 8 decisions; the signal lands after the first checkpoint
+  t.exploration_end = 80;
+  t.exploitation_start = 160;
+  t.checkpoint_every = 24;
+  std::ofstream(dir / "tiny.toml") << t.toml();
+  const std::string common = "run --config " + (dir / "tiny.toml").string() + " --threads 1 --quiet --no-figures -o ";
+  const RunResult ref = codesign::test::run_codesign(common + (dir / "ref").string());
+  ASSERT_EQ(ref.status, 0) << ref.output;
+  for (const std::string how : {"sigterm", "kill_rank1"}) {
+    const fs::path out = dir / how;
+    const pid_t mpirun = spawn_mpi(mpi_command(2, common + out.string()), dir / (how + ".log"));
+    ASSERT_TRUE(wait_for(out / "checkpoint.bin", 120)) << how << ": no checkpoint after 120 s\n"
+                                                       << slurp(dir / (how + ".log"));
+    if (how == "sigterm") {
+      ::kill(mpirun, SIGTERM);
+    } else {
+      pid_t r1 = 0;
+      for (int i = 0; i < 100 && r1 == 0; ++i) {
+        r1 = rank_pid(out, 1);
+        if (r1 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      }
+      ASSERT_NE(r1, 0) << "rank 1 of the run not found";
+      ::kill(r1, SIGKILL);
+    }
+    const int status = wait_exit(mpirun);
+    const std::string log = slurp(dir / (how + ".log"));
+    EXPECT_NE(status, 0) << how << "\n" << log;
+    if (how == "sigterm") {
+      EXPECT_NE(log.find("codesign: SIGTERM: stopped after the iteration ending at t = "), std::string::npos) << log;
+      EXPECT_FALSE(fs::exists(out / ".lock")) << log;
+    } else {
+      EXPECT_NE(log.find("rank 1"), std::string::npos) << log;  // mpirun names the rank that died
+    }
+    EXPECT_FALSE(fs::exists(out / "result.toml")) << how << ": the run ended before the signal\n" << log;
+    const RunResult resumed = run_mpi(2, common + out.string() + " --resume");
+    ASSERT_EQ(resumed.status, 0) << how << "\n" << resumed.output;
+    for (const char* f : {"policy.bin", "sampled.csv", "distribution.csv", "q_disc.csv", "episodes.csv"})
+      EXPECT_EQ(slurp(out / f), slurp(dir / "ref" / f)) << f << " after " << how;
+    EXPECT_EQ(without_wall(slurp(out / "result.toml")), without_wall(slurp(dir / "ref" / "result.toml"))) << how;
   }
 }
 
