@@ -41,10 +41,12 @@ int main(int argc, char** argv) {
   const int rank = codesign::cluster::world_rank(), ranks = codesign::cluster::world_size();
   if (ranks > 1) {
     const std::vector<std::string> args = with_default_command(argc, argv);
-    if (args.empty() || args.front() != "run") {  // every rank ends here alike: no one waits
+    const bool multi_rank = !args.empty() && (args.front() == "run" || (args.front() == "bench" && args.size() > 1 &&
+                                                                         args[1] == "cluster"));
+    if (!multi_rank) {  // every rank ends here alike: no one waits
       if (rank == 0)
-        std::fprintf(stderr, "codesign: error: only `codesign run` (or the main job) runs on several MPI ranks; "
-                             "run '%s' without mpirun\n", args.empty() ? "" : args.front().c_str());
+        std::fprintf(stderr, "codesign: error: only `codesign run` (or the main job) and `codesign bench cluster` run "
+                             "on several MPI ranks; run '%s' without mpirun\n", args.empty() ? "" : args.front().c_str());
       return 2;
     }
   }
@@ -87,6 +89,7 @@ int run_command(int argc, char** argv) {
   bench->require_subcommand(1);
   app::add_bench_fem_command(*bench, run);
   app::add_bench_codesign_command(*bench, run);
+  app::add_bench_cluster_command(*bench, run);
   app::add_bench_ppo_command(*bench, run);
   app::add_bench_telemetry_command(*bench, run);
   app::add_bench_render_command(*bench, run);

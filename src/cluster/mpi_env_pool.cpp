@@ -1,5 +1,6 @@
 #include "cluster/mpi_env_pool.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -11,7 +12,7 @@ namespace {
 
 // Rank 0 -> rank r: a command header {command, flag}, then its payload (if any), all tag kCommand
 // or kPayload; rank r -> rank 0: the reply (kReply) and, after a step, the end reasons (kReasons).
-enum Command : int { kStop = 0, kStart = 1, kStep = 2, kTimes = 3 };
+enum Command : int { kStop = 0, kStart = 1, kStep = 2, kTimes = 3, kPing = 4 };
 constexpr int kTagCommand = 101, kTagPayload = 102, kTagReply = 103, kTagReasons = 104;
 constexpr int kSetupFields = 6;  // design, p1, p2, plate phase, theta0, fault
 constexpr int kStepFields = 5;   // reward, terminated, truncated, in_band, has terminal obs
@@ -254,6 +255,20 @@ void MpiEnvPool::set_step_observer(std::size_t i, StepObserver observer, int eve
   local_->set_step_observer(i, std::move(observer), every);
 }
 
+double time_exchanges(int ranks, std::size_t out_doubles, std::size_t in_doubles, int repeats) {
+  if (ranks < 2 || repeats < 1) return 0.0;
+  const std::vector<double> out(out_doubles, 0.0);
+  const double t0 = MPI_Wtime();
+  for (int k = 0; k < repeats; ++k)
+    for (int r = 1; r < ranks; ++r) {
+      send_command(r, kPing, static_cast<int>(in_doubles));
+      send_doubles(out, r, kTagPayload);
+      recv_doubles(in_doubles, r, kTagReply);
+      recv_string(r, kTagReasons);
+    }
+  return (MPI_Wtime() - t0) / (static_cast<double>(repeats) * (ranks - 1));
+}
+
 void serve_env_pool(core::ThreadEnvPool& local) {
   const std::size_t n = local.size(), a = local.spec().action.dim();
   for (;;) {
@@ -282,6 +297,18 @@ void serve_env_pool(core::ThreadEnvPool& local) {
       case kTimes:
         send_doubles({local.settle_seconds(), local.step_seconds()}, 0, kTagReply);
         break;
+      case kPing: {
+        MPI_Status st;
+        check(MPI_Probe(0, kTagPayload, MPI_COMM_WORLD, &st), "probe");
+        int got = 0;
+        MPI_Get_count(&st, MPI_DOUBLE, &got);
+        recv_doubles(static_cast<std::size_t>(got), 0, kTagPayload);
+        send_doubles(std::vector<double>(static_cast<std::size_t>(std::max(0, header[1])), 0.0), 0, kTagReply);
+        const std::string reasons(8, 'x');
+        check(MPI_Send(reasons.data(), static_cast<int>(reasons.size()), MPI_CHAR, 0, kTagReasons, MPI_COMM_WORLD),
+              "send the end reasons");
+        break;
+      }
       default:
         throw std::runtime_error("MPI rollout backend: unknown command " + std::to_string(header[0]) + " from rank 0");
     }

@@ -200,8 +200,8 @@ TEST(MpiRun, BadRankCountsAndOtherCommandsAreOneMessage) {
   EXPECT_FALSE(fs::exists(dir / "five"));
   r = run_mpi(2, "evaluate --run " + (dir / "five").string());
   EXPECT_NE(r.status, 0) << r.output;
-  const std::string m2 = "codesign: error: only `codesign run` (or the main job) runs on several MPI ranks; run "
-                         "'evaluate' without mpirun";
+  const std::string m2 = "codesign: error: only `codesign run` (or the main job) and `codesign bench cluster` run on "
+                         "several MPI ranks; run 'evaluate' without mpirun";
   ASSERT_NE(r.output.find(m2), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find(m2), r.output.rfind(m2)) << r.output;
 }

@@ -1,0 +1,23 @@
+#include "cluster/scaling_model.hpp"
+
+#include <stdexcept>
+
+#include "cluster/mpi_env_pool.hpp"
+
+namespace codesign::cluster {
+
+double iteration_seconds(const ScalingCosts& c, int ranks) {
+  if (c.threads_per_rank < 1) throw std::invalid_argument("iteration_seconds: threads_per_rank < 1");
+  if (c.env_collect_cpu_s < 0 || c.exchange_s < 0 || c.update_s < 0 || c.policy_s < 0 || c.distribution_s < 0 ||
+      c.exchanges < 0)
+    throw std::invalid_argument("iteration_seconds: a negative cost");
+  const std::size_t busiest = env_slice(c.environments, 0, ranks).count;  // rank 0 holds a largest slice
+  // A rank's environments run on its threads: ⌈busiest / t⌉ rounds of one environment each when
+  // busiest ≥ t, else one round on `busiest` threads.
+  const double rounds = static_cast<double>((busiest + static_cast<std::size_t>(c.threads_per_rank) - 1) /
+                                            static_cast<std::size_t>(c.threads_per_rank));
+  const double collect = rounds * c.env_collect_cpu_s + (ranks - 1) * c.exchanges * c.exchange_s;
+  return collect + c.update_s + c.policy_s + c.distribution_s;
+}
+
+}  // namespace codesign::cluster

@@ -1,0 +1,35 @@
+#pragma once
+// How an iteration of Algorithm 1 scales with MPI ranks (issue 20 §3): a model fed with costs
+// measured on one machine (`codesign bench cluster`, docs/cluster.md).
+//
+// One iteration on N ranks of t threads each:
+//   collection  ⌈⌈ψ/N⌉ / t⌉ · c  +  (N − 1) · s · x
+//   serial      u + p + d
+// with ψ environments split as cluster::env_slice does (the busiest rank holds ⌈ψ/N⌉, stepped on
+// its t threads in rounds of t environments of equal cost), c the collection CPU of one
+// environment over an iteration (its settles and FEM steps), s the
+// exchanges per iteration (one per decision and one start), x the cost of one exchange between
+// rank 0 and one other rank (rank 0 talks to the ranks one after the other), and the parts that
+// run on rank 0 alone: u the PPO update, p the policy inference, d the distribution update.
+// Amdahl's law with a message term: the serial part bounds the speed-up at (⌈ψ/t⌉·c + u + p + d) /
+// (c + u + p + d) however many ranks there are.
+#include <cstddef>
+
+namespace codesign::cluster {
+
+struct ScalingCosts {
+  std::size_t environments = 40;     // ψ
+  int threads_per_rank = 1;          // t
+  double env_collect_cpu_s = 0.0;    // c
+  int exchanges = 51;                // s: decisions per episode + 1
+  double exchange_s = 0.0;           // x
+  double update_s = 0.0;             // u
+  double policy_s = 0.0;             // p
+  double distribution_s = 0.0;       // d
+};
+
+// Seconds per iteration on `ranks` ranks (1 ≤ ranks ≤ environments; std::invalid_argument
+// otherwise, or for threads_per_rank < 1 or a negative cost).
+double iteration_seconds(const ScalingCosts& c, int ranks);
+
+}  // namespace codesign::cluster

@@ -1,0 +1,56 @@
+// The scaling model of issue 20 §3 against values worked out by hand.
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "cluster/scaling_model.hpp"
+
+namespace {
+
+using codesign::cluster::iteration_seconds;
+using codesign::cluster::ScalingCosts;
+
+ScalingCosts paper_like() {
+  ScalingCosts c;
+  c.environments = 40;
+  c.threads_per_rank = 2;
+  c.env_collect_cpu_s = 0.25;
+  c.exchanges = 51;
+  c.exchange_s = 1e-5;
+  c.update_s = 0.3;
+  c.policy_s = 0.05;
+  c.distribution_s = 0.001;
+  return c;
+}
+
+TEST(ScalingModel, MatchesTheHandWorkedIterationTimes) {
+  const ScalingCosts c = paper_like();
+  const double serial = 0.3 + 0.05 + 0.001;
+  // 1 rank: 40 environments on 2 threads = 20 rounds of 0.25 s, no messages.
+  EXPECT_NEAR(iteration_seconds(c, 1), 20 * 0.25 + serial, 1e-12);
+  // 16 ranks: the busiest holds 3 (40 = 8·3 + 8·2) -> 2 rounds; 15 · 51 exchanges of 10 µs.
+  EXPECT_NEAR(iteration_seconds(c, 16), 2 * 0.25 + 15 * 51 * 1e-5 + serial, 1e-12);
+  // 40 ranks: one environment each -> 1 round; 39 · 51 exchanges.
+  EXPECT_NEAR(iteration_seconds(c, 40), 0.25 + 39 * 51 * 1e-5 + serial, 1e-12);
+  // 3 ranks of 1 thread: the busiest holds 14 -> 14 rounds.
+  ScalingCosts one = c;
+  one.threads_per_rank = 1;
+  EXPECT_NEAR(iteration_seconds(one, 3), 14 * 0.25 + 2 * 51 * 1e-5 + serial, 1e-12);
+}
+
+TEST(ScalingModel, NeverFasterThanItsSerialPartAndRefusesBadInput) {
+  const ScalingCosts c = paper_like();
+  for (int n = 1; n <= 40; ++n) {
+    EXPECT_GT(iteration_seconds(c, n), c.update_s + c.policy_s + c.distribution_s + c.env_collect_cpu_s - 1e-12);
+  }
+  EXPECT_THROW(iteration_seconds(c, 0), std::invalid_argument);
+  EXPECT_THROW(iteration_seconds(c, 41), std::invalid_argument);
+  ScalingCosts bad = c;
+  bad.threads_per_rank = 0;
+  EXPECT_THROW(iteration_seconds(bad, 2), std::invalid_argument);
+  bad = c;
+  bad.exchange_s = -1.0;
+  EXPECT_THROW(iteration_seconds(bad, 2), std::invalid_argument);
+}
+
+}  // namespace
