@@ -230,23 +230,21 @@ const rl::VecStepResult& MpiEnvPool::step(const Eigen::MatrixXd& actions, bool r
   return result_;
 }
 
-double MpiEnvPool::settle_seconds() const {
-  double s = local_->settle_seconds();
+// The settle and step CPU seconds of ranks 1.. (one query each).
+std::array<double, 2> MpiEnvPool::remote_seconds() const {
+  std::array<double, 2> sum{0.0, 0.0};
   for (int r = 1; r < ranks_; ++r) {
     send_command(r, kTimes, 0);
-    s += recv_doubles(2, r, kTagReply)[0];
+    const std::vector<double> v = recv_doubles(2, r, kTagReply);
+    sum[0] += v[0];
+    sum[1] += v[1];
   }
-  return s;
+  return sum;
 }
 
-double MpiEnvPool::step_seconds() const {
-  double s = local_->step_seconds();
-  for (int r = 1; r < ranks_; ++r) {
-    send_command(r, kTimes, 0);
-    s += recv_doubles(2, r, kTagReply)[1];
-  }
-  return s;
-}
+double MpiEnvPool::settle_seconds() const { return local_->settle_seconds() + remote_seconds()[0]; }
+
+double MpiEnvPool::step_seconds() const { return local_->step_seconds() + remote_seconds()[1]; }
 
 void MpiEnvPool::set_step_observer(std::size_t i, StepObserver observer, int every) {
   if (i >= slices_[0].count)

@@ -14,6 +14,7 @@
 // the wire bit for bit, so a run gives the same results on any number of ranks and threads per
 // rank. Live telemetry of training steps (set_step_observer) is kept for environments of rank 0's
 // slice (environment 0 is always there); an observer on another rank's environment is refused.
+#include <array>
 #include <cstddef>
 #include <memory>
 #include <vector>
@@ -50,6 +51,8 @@ class MpiEnvPool final : public core::EnvPool {
   rl::ThreadPool* thread_pool() override { return local_->thread_pool(); }
 
  private:
+  std::array<double, 2> remote_seconds() const;
+
   std::unique_ptr<core::ThreadEnvPool> local_;
   std::size_t n_envs_;
   int ranks_;

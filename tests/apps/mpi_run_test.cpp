@@ -9,7 +9,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -56,15 +55,7 @@ std::string mpi_command(int ranks, const std::string& args) {
 }
 
 RunResult run_mpi(int ranks, const std::string& args) {
-  const std::string cmd = kMpiEnv + mpi_command(ranks, args) + " 2>&1";
-  RunResult r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (p == nullptr) return r;
-  std::array<char, 4096> buf;
-  while (std::fgets(buf.data(), buf.size(), p) != nullptr) r.output += buf.data();
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
+  return codesign::test::run_shell(kMpiEnv + mpi_command(ranks, args));
 }
 
 TEST(MpiRun, TwoAndThreeRanksWriteTheRunFolderOfOneProcess) {

@@ -26,8 +26,9 @@ struct RunResult {
   std::string output;  // stdout and stderr together
 };
 
-inline RunResult run_codesign(const std::string& args) {
-  const std::string cmd = std::string(CODESIGN_BINARY) + " " + args + " 2>&1";
+// Runs a shell command line, stdout and stderr together.
+inline RunResult run_shell(const std::string& command) {
+  const std::string cmd = command + " 2>&1";
   RunResult r;
   FILE* p = popen(cmd.c_str(), "r");
   if (p == nullptr) return r;
@@ -37,5 +38,7 @@ inline RunResult run_codesign(const std::string& args) {
   r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
   return r;
 }
+
+inline RunResult run_codesign(const std::string& args) { return run_shell(std::string(CODESIGN_BINARY) + " " + args); }
 
 }  // namespace codesign::test
