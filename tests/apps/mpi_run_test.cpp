@@ -44,13 +44,16 @@ std::string without_wall(const std::string& toml) {
 }
 
 // The launch of `args` on `ranks` ranks of this machine. Open MPI refuses root unless told (CI
-// containers run as root); on SIGTERM mpirun gives the ranks 10 s before it kills them.
+// containers run as root); no single-copy transfers between the ranks' memories (they need ptrace
+// rights that containers often withhold; our messages are small); on SIGTERM mpirun gives the
+// ranks 10 s before it kills them.
 constexpr const char* kMpiEnv = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ";
 
 std::string mpi_command(int ranks, const std::string& args) {
   return std::string(CODESIGN_MPIEXEC) + " -np " +
          std::to_string(ranks) +
-         " --oversubscribe --mca btl self,vader --mca oob_tcp_if_include lo --mca odls_base_sigkill_timeout 10 " +
+         " --oversubscribe --mca btl self,vader --mca btl_vader_single_copy_mechanism none"
+         " --mca oob_tcp_if_include lo --mca odls_base_sigkill_timeout 10 " +
          CODESIGN_BINARY + " " + args;
 }
 
