@@ -6,6 +6,8 @@
 
 #include <mpi.h>
 
+#include "cluster/rollout_messages.hpp"
+
 namespace codesign::cluster {
 
 namespace {
@@ -14,8 +16,6 @@ namespace {
 // or kPayload; rank r -> rank 0: the reply (kReply) and, after a step, the end reasons (kReasons).
 enum Command : int { kStop = 0, kStart = 1, kStep = 2, kTimes = 3, kPing = 4 };
 constexpr int kTagCommand = 101, kTagPayload = 102, kTagReply = 103, kTagReasons = 104;
-constexpr int kSetupFields = 6;  // design, p1, p2, plate phase, theta0, fault
-constexpr int kStepFields = 5;   // reward, terminated, truncated, in_band, has terminal obs
 
 void check(int rc, const char* what) {
   if (rc == MPI_SUCCESS) return;
@@ -46,29 +46,6 @@ void send_command(int to, Command c, int flag) {
   check(MPI_Send(header, 2, MPI_INT, to, kTagCommand, MPI_COMM_WORLD), "send a command");
 }
 
-// The end reasons of a slice as one '\n'-separated string (reasons hold no newline).
-std::string join_reasons(const std::vector<std::string>& reasons) {
-  std::string s;
-  for (std::size_t i = 0; i < reasons.size(); ++i) {
-    if (reasons[i].find('\n') != std::string::npos) throw std::runtime_error("MPI rollout backend: a reason with a newline");
-    if (i) s += '\n';
-    s += reasons[i];
-  }
-  return s;
-}
-
-std::vector<std::string> split_reasons(const std::string& s, std::size_t n) {
-  std::vector<std::string> out;
-  std::size_t from = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t to = i + 1 < n ? s.find('\n', from) : s.size();
-    if (to == std::string::npos) throw std::runtime_error("MPI rollout backend: too few end reasons in a reply");
-    out.push_back(s.substr(from, to - from));
-    from = to + 1;
-  }
-  return out;
-}
-
 std::string recv_string(int from, int tag) {
   MPI_Status st;
   check(MPI_Probe(from, tag, MPI_COMM_WORLD, &st), "probe");
@@ -79,56 +56,10 @@ std::string recv_string(int from, int tag) {
   return s;
 }
 
-std::vector<double> pack_setups(const std::vector<core::EpisodeSetup>& setups, EnvSlice s) {
-  std::vector<double> v;
-  v.reserve(s.count * kSetupFields);
-  for (std::size_t i = s.first; i < s.first + s.count; ++i) {
-    const core::EpisodeSetup& e = setups[i];
-    v.insert(v.end(), {static_cast<double>(e.design), e.p1_kPa, e.p2_kPa, e.plate_phase_rad, e.theta0_rad,
-                       static_cast<double>(static_cast<int>(e.fault))});
-  }
-  return v;
-}
-
-std::vector<core::EpisodeSetup> unpack_setups(const std::vector<double>& v) {
-  std::vector<core::EpisodeSetup> out(v.size() / kSetupFields);
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    const double* f = &v[i * kSetupFields];
-    out[i].design = static_cast<int>(f[0]);
-    out[i].p1_kPa = f[1];
-    out[i].p2_kPa = f[2];
-    out[i].plate_phase_rad = f[3];
-    out[i].theta0_rad = f[4];
-    out[i].fault = static_cast<core::Fault>(static_cast<int>(f[5]));
-  }
-  return out;
-}
-
 std::vector<double> columns(const Eigen::MatrixXd& m, EnvSlice s) {
   std::vector<double> v(static_cast<std::size_t>(m.rows()) * s.count);
   Eigen::Map<Eigen::MatrixXd>(v.data(), m.rows(), static_cast<Eigen::Index>(s.count)) =
       m.middleCols(static_cast<Eigen::Index>(s.first), static_cast<Eigen::Index>(s.count));
-  return v;
-}
-
-// One slice's step result, packed: per environment kStepFields numbers, its observation and its
-// terminal observation (zeros where the episode did not end).
-std::vector<double> pack_step(const rl::VecStepResult& r, const core::EnvPool& pool) {
-  const std::size_t n = pool.size(), d = static_cast<std::size_t>(r.obs.rows());
-  std::vector<double> v;
-  v.reserve(n * (kStepFields + 2 * d));
-  for (std::size_t i = 0; i < n; ++i) {
-    const bool term = r.terminal_obs[i].has_value();
-    v.insert(v.end(), {r.rewards(static_cast<Eigen::Index>(i)), static_cast<double>(r.terminated[i]),
-                       static_cast<double>(r.truncated[i]), static_cast<double>(r.done(i) ? pool.last_in_band(i) : 0),
-                       term ? 1.0 : 0.0});
-    const auto col = r.obs.col(static_cast<Eigen::Index>(i));
-    v.insert(v.end(), col.data(), col.data() + d);
-    if (term)
-      v.insert(v.end(), r.terminal_obs[i]->data(), r.terminal_obs[i]->data() + d);
-    else
-      v.insert(v.end(), d, 0.0);
-  }
   return v;
 }
 
@@ -172,7 +103,7 @@ Eigen::MatrixXd MpiEnvPool::start(const std::vector<core::EpisodeSetup>& setups)
   if (setups.size() != n_envs_) throw std::invalid_argument("MpiEnvPool::start: one setup per environment");
   for (int r = 1; r < ranks_; ++r) {
     send_command(r, kStart, 0);
-    send_doubles(pack_setups(setups, slices_[r]), r, kTagPayload);
+    send_doubles(pack_setups(setups, slices_[r].first, slices_[r].count), r, kTagPayload);
   }
   const std::vector<core::EpisodeSetup> mine(setups.begin(), setups.begin() + static_cast<std::ptrdiff_t>(slices_[0].count));
   const Eigen::Index d = static_cast<Eigen::Index>(spec().observation.dim());
@@ -211,21 +142,8 @@ const rl::VecStepResult& MpiEnvPool::step(const Eigen::MatrixXd& actions, bool r
     const EnvSlice s = slices_[r];
     const std::vector<double> v = recv_doubles(s.count * (kStepFields + 2 * d), r, kTagReply);
     const std::vector<std::string> reasons = split_reasons(recv_string(r, kTagReasons), s.count);
-    for (std::size_t k = 0; k < s.count; ++k) {
-      const std::size_t i = s.first + k;
-      const auto c = static_cast<Eigen::Index>(i);
-      const double* f = &v[k * (kStepFields + 2 * d)];
-      result_.rewards(c) = f[0];
-      result_.terminated[i] = f[1] != 0.0 ? 1 : 0;
-      result_.truncated[i] = f[2] != 0.0 ? 1 : 0;
-      if (result_.done(i)) last_in_band_[i] = static_cast<int>(f[3]);
-      result_.obs.col(c) = Eigen::Map<const Eigen::VectorXd>(f + kStepFields, static_cast<Eigen::Index>(d));
-      if (f[4] != 0.0)
-        result_.terminal_obs[i] = Eigen::Map<const Eigen::VectorXd>(f + kStepFields + d, static_cast<Eigen::Index>(d));
-      else
-        result_.terminal_obs[i].reset();
-      result_.reasons[i] = reasons[k];
-    }
+    unpack_step(v, d, s.first, result_, last_in_band_);
+    for (std::size_t k = 0; k < s.count; ++k) result_.reasons[s.first + k] = reasons[k];
   }
   return result_;
 }
@@ -286,7 +204,10 @@ void serve_env_pool(core::ThreadEnvPool& local) {
         const Eigen::MatrixXd actions = Eigen::Map<const Eigen::MatrixXd>(v.data(), static_cast<Eigen::Index>(a),
                                                                           static_cast<Eigen::Index>(n));
         const rl::VecStepResult& r = local.step(actions, header[1] != 0);
-        send_doubles(pack_step(r, local), 0, kTagReply);
+        std::vector<int> in_band(n, 0);
+        for (std::size_t i = 0; i < n; ++i)
+          if (r.done(i)) in_band[i] = local.last_in_band(i);
+        send_doubles(pack_step(r, in_band), 0, kTagReply);
         const std::string reasons = join_reasons(r.reasons);
         check(MPI_Send(reasons.data(), static_cast<int>(reasons.size()), MPI_CHAR, 0, kTagReasons, MPI_COMM_WORLD),
               "send the end reasons");

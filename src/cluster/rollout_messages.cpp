@@ -1,0 +1,115 @@
+#include "cluster/rollout_messages.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace codesign::cluster {
+
+std::vector<double> pack_setups(const std::vector<core::EpisodeSetup>& setups, std::size_t first, std::size_t count) {
+  if (first + count > setups.size()) throw std::invalid_argument("pack_setups: slice outside the setups");
+  std::vector<double> v;
+  v.reserve(count * kSetupFields);
+  for (std::size_t i = first; i < first + count; ++i) {
+    const core::EpisodeSetup& e = setups[i];
+    v.insert(v.end(), {static_cast<double>(e.design), e.p1_kPa, e.p2_kPa, e.plate_phase_rad, e.theta0_rad,
+                       static_cast<double>(static_cast<int>(e.fault))});
+  }
+  return v;
+}
+
+std::vector<core::EpisodeSetup> unpack_setups(const std::vector<double>& v) {
+  if (v.size() % kSetupFields != 0) throw std::invalid_argument("unpack_setups: not a whole number of setups");
+  const auto integer_in = [](double x, int lo, int hi, const char* what) {
+    if (!(x >= lo && x <= hi) || std::floor(x) != x)
+      throw std::invalid_argument(std::string("unpack_setups: ") + what + " is not an integer of its range");
+    return static_cast<int>(x);
+  };
+  std::vector<core::EpisodeSetup> out(v.size() / kSetupFields);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const double* f = &v[i * kSetupFields];
+    out[i].design = integer_in(f[0], 0, 1 << 20, "a design");
+    out[i].p1_kPa = f[1];
+    out[i].p2_kPa = f[2];
+    out[i].plate_phase_rad = f[3];
+    out[i].theta0_rad = f[4];
+    out[i].fault = static_cast<core::Fault>(
+        integer_in(f[5], 0, static_cast<int>(core::kFaultNames.size()) - 1, "a fault"));
+  }
+  return out;
+}
+
+std::vector<double> pack_step(const rl::VecStepResult& r, const std::vector<int>& in_band) {
+  const std::size_t n = static_cast<std::size_t>(r.rewards.size()), d = static_cast<std::size_t>(r.obs.rows());
+  if (in_band.size() != n || r.terminal_obs.size() != n || r.terminated.size() != n || r.truncated.size() != n)
+    throw std::invalid_argument("pack_step: a result whose parts differ in size");
+  std::vector<double> v;
+  v.reserve(n * (kStepFields + 2 * d));
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool term = r.terminal_obs[i].has_value();
+    v.insert(v.end(), {r.rewards(static_cast<Eigen::Index>(i)), static_cast<double>(r.terminated[i]),
+                       static_cast<double>(r.truncated[i]), static_cast<double>(r.done(i) ? in_band[i] : 0),
+                       term ? 1.0 : 0.0});
+    const auto col = r.obs.col(static_cast<Eigen::Index>(i));
+    v.insert(v.end(), col.data(), col.data() + d);
+    if (term) {
+      if (static_cast<std::size_t>(r.terminal_obs[i]->size()) != d)
+        throw std::invalid_argument("pack_step: a terminal observation of another size");
+      v.insert(v.end(), r.terminal_obs[i]->data(), r.terminal_obs[i]->data() + d);
+    } else {
+      v.insert(v.end(), d, 0.0);
+    }
+  }
+  return v;
+}
+
+void unpack_step(const std::vector<double>& v, std::size_t obs_dim, std::size_t first, rl::VecStepResult& into,
+                 std::vector<int>& last_in_band) {
+  const std::size_t per = kStepFields + 2 * obs_dim;
+  if (v.size() % per != 0) throw std::invalid_argument("unpack_step: not a whole number of step results");
+  const std::size_t count = v.size() / per;
+  if (static_cast<std::size_t>(into.obs.rows()) != obs_dim || first + count > static_cast<std::size_t>(into.obs.cols()) ||
+      first + count > last_in_band.size())
+    throw std::invalid_argument("unpack_step: the slice does not fit the result");
+  const auto d = static_cast<Eigen::Index>(obs_dim);
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::size_t i = first + k;
+    const auto c = static_cast<Eigen::Index>(i);
+    const double* f = &v[k * per];
+    into.rewards(c) = f[0];
+    into.terminated[i] = f[1] != 0.0 ? 1 : 0;
+    into.truncated[i] = f[2] != 0.0 ? 1 : 0;
+    if (into.done(i)) last_in_band[i] = static_cast<int>(f[3]);
+    into.obs.col(c) = Eigen::Map<const Eigen::VectorXd>(f + kStepFields, d);
+    if (f[4] != 0.0)
+      into.terminal_obs[i] = Eigen::Map<const Eigen::VectorXd>(f + kStepFields + obs_dim, d);
+    else
+      into.terminal_obs[i].reset();
+  }
+}
+
+std::string join_reasons(const std::vector<std::string>& reasons) {
+  std::string s;
+  for (std::size_t i = 0; i < reasons.size(); ++i) {
+    if (reasons[i].find('\n') != std::string::npos) throw std::invalid_argument("join_reasons: a reason with a newline");
+    if (i) s += '\n';
+    s += reasons[i];
+  }
+  return s;
+}
+
+std::vector<std::string> split_reasons(const std::string& s, std::size_t n) {
+  std::vector<std::string> out;
+  std::size_t from = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t to = i + 1 < n ? s.find('\n', from) : s.size();
+    if (to == std::string::npos) throw std::invalid_argument("split_reasons: fewer reasons than environments");
+    out.push_back(s.substr(from, to - from));
+    from = to + 1;
+  }
+  // The last reason runs to the end: a newline in it means more reasons than environments.
+  if (n == 0 ? !s.empty() : out.back().find('\n') != std::string::npos)
+    throw std::invalid_argument("split_reasons: more reasons than environments");
+  return out;
+}
+
+}  // namespace codesign::cluster

@@ -1,0 +1,105 @@
+// The wire format of the MPI rollout backend: what a rank packs is what rank 0 unpacks, bit for
+// bit, at the slice's place; malformed messages are refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+
+#include "cluster/rollout_messages.hpp"
+
+namespace {
+
+using namespace codesign;
+using namespace codesign::cluster;
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+TEST(RolloutMessages, SetupsRoundTripBitForBit) {
+  std::vector<core::EpisodeSetup> setups(4);
+  setups[1] = {109, 19.089510258376322, 0.0, 3.14159265358979, -0.0, core::Fault::InvertedElement};
+  setups[2] = {7, 1e-310, 20.0, 6.283185307179586, 0.5, core::Fault::NanPressure};
+  const std::vector<core::EpisodeSetup> back = unpack_setups(pack_setups(setups, 1, 2));
+  ASSERT_EQ(back.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const core::EpisodeSetup &a = setups[1 + k], &b = back[k];
+    EXPECT_EQ(a.design, b.design);
+    EXPECT_EQ(a.fault, b.fault);
+    for (auto [x, y] : {std::pair{a.p1_kPa, b.p1_kPa}, {a.p2_kPa, b.p2_kPa}, {a.plate_phase_rad, b.plate_phase_rad},
+                        {a.theta0_rad, b.theta0_rad}})
+      EXPECT_TRUE(same_bits(x, y)) << x << " " << y;
+  }
+  EXPECT_THROW(pack_setups(setups, 3, 2), std::invalid_argument);
+  std::vector<double> v = pack_setups(setups, 0, 1);
+  v.pop_back();
+  EXPECT_THROW(unpack_setups(v), std::invalid_argument);
+  v = pack_setups(setups, 0, 1);
+  v[5] = 3.0;  // no fault number 3
+  EXPECT_THROW(unpack_setups(v), std::invalid_argument);
+  v[5] = 0.0;
+  v[0] = 2.5;  // not a design index
+  EXPECT_THROW(unpack_setups(v), std::invalid_argument);
+}
+
+TEST(RolloutMessages, StepResultsLandAtTheirSliceBitForBit) {
+  const std::size_t d = 3, n = 2;
+  rl::VecStepResult r;
+  r.obs.resize(d, n);
+  r.obs << 1.0, -0.0, std::numeric_limits<double>::quiet_NaN(), 4e-320, 1e300, -7.25;
+  r.rewards.resize(n);
+  r.rewards << 0.73, -std::numeric_limits<double>::infinity();
+  r.terminated = {0, 1};
+  r.truncated = {0, 0};
+  r.terminal_obs = {std::nullopt, Eigen::Vector3d(0.1, 0.2, std::numeric_limits<double>::quiet_NaN())};
+  r.reasons = {"", "lost_contact"};
+  const std::vector<double> packed = pack_step(r, {99, 37});
+
+  // Rank 0's result for 5 environments; the slice goes to environments 2 and 3.
+  rl::VecStepResult all;
+  all.obs = Eigen::MatrixXd::Constant(d, 5, 9.0);
+  all.rewards = Eigen::VectorXd::Constant(5, 9.0);
+  all.terminated.assign(5, 1);
+  all.truncated.assign(5, 1);
+  all.terminal_obs.assign(5, Eigen::VectorXd::Constant(d, 9.0));
+  all.reasons.assign(5, "x");
+  std::vector<int> in_band(5, -1);
+  unpack_step(packed, d, 2, all, in_band);
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto c = static_cast<Eigen::Index>(2 + k), ck = static_cast<Eigen::Index>(k);
+    EXPECT_TRUE(same_bits(all.rewards(c), r.rewards(ck)));
+    for (Eigen::Index row = 0; row < static_cast<Eigen::Index>(d); ++row)
+      EXPECT_TRUE(same_bits(all.obs(row, c), r.obs(row, ck))) << row << "," << k;
+    EXPECT_EQ(all.terminated[2 + k], r.terminated[k]);
+    EXPECT_EQ(all.truncated[2 + k], r.truncated[k]);
+  }
+  EXPECT_FALSE(all.terminal_obs[2].has_value());
+  ASSERT_TRUE(all.terminal_obs[3].has_value());
+  for (Eigen::Index row = 0; row < static_cast<Eigen::Index>(d); ++row)
+    EXPECT_TRUE(same_bits((*all.terminal_obs[3])(row), (*r.terminal_obs[1])(row)));
+  EXPECT_EQ(in_band[2], -1);  // no episode ended there: left as it was
+  EXPECT_EQ(in_band[3], 37);
+  // Outside the slice nothing changed.
+  for (std::size_t i : {0u, 1u, 4u}) {
+    EXPECT_EQ(all.rewards(static_cast<Eigen::Index>(i)), 9.0);
+    EXPECT_EQ(in_band[i], -1);
+  }
+  // A slice that does not fit, or a message cut short, is refused.
+  EXPECT_THROW(unpack_step(packed, d, 4, all, in_band), std::invalid_argument);
+  std::vector<double> cut = packed;
+  cut.pop_back();
+  EXPECT_THROW(unpack_step(cut, d, 0, all, in_band), std::invalid_argument);
+  EXPECT_THROW(pack_step(r, {1}), std::invalid_argument);
+}
+
+TEST(RolloutMessages, ReasonsRoundTripAndCountsAreChecked) {
+  const std::vector<std::string> reasons{"", "time_limit", "", "numerical_failure"};
+  EXPECT_EQ(split_reasons(join_reasons(reasons), reasons.size()), reasons);
+  EXPECT_EQ(split_reasons(join_reasons({""}), 1), std::vector<std::string>{""});
+  EXPECT_TRUE(split_reasons("", 0).empty());
+  EXPECT_THROW(split_reasons(join_reasons(reasons), 5), std::invalid_argument);
+  EXPECT_THROW(split_reasons(join_reasons(reasons), 3), std::invalid_argument);
+  EXPECT_THROW(join_reasons({"a\nb"}), std::invalid_argument);
+}
+
+}  // namespace
