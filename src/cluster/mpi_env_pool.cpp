@@ -1,8 +1,10 @@
 #include "cluster/mpi_env_pool.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include <mpi.h>
 
@@ -29,10 +31,35 @@ void send_doubles(const std::vector<double>& v, int to, int tag) {
   check(MPI_Send(v.data(), static_cast<int>(v.size()), MPI_DOUBLE, to, tag, MPI_COMM_WORLD), "send");
 }
 
+// Waits for a posted receive without holding a core. Open MPI's blocking calls poll the shared
+// memory transport in a loop, so a rank waiting through rank 0's PPO update (a fraction of a second
+// per iteration) would take a core from it when the ranks share a machine. This polls for up to
+// 100 µs (an answer to a step usually comes within that: docs/cluster.md), then sleeps between
+// polls, 20 µs at first, doubling up to 500 µs.
+void wait_without_spinning(MPI_Request& request, MPI_Status* status, const char* what) {
+  int done = 0;
+  const double spin_until = MPI_Wtime() + 100e-6;
+  do {
+    check(MPI_Test(&request, &done, status), what);
+  } while (!done && MPI_Wtime() < spin_until);
+  auto pause = std::chrono::microseconds(20);
+  while (!done) {
+    std::this_thread::sleep_for(pause);
+    pause = std::min(2 * pause, std::chrono::microseconds(500));
+    check(MPI_Test(&request, &done, status), what);
+  }
+}
+
+void recv_into(void* data, int count, MPI_Datatype type, int from, int tag, MPI_Status* status, const char* what) {
+  MPI_Request request;
+  check(MPI_Irecv(data, count, type, from, tag, MPI_COMM_WORLD, &request), what);
+  wait_without_spinning(request, status, what);
+}
+
 std::vector<double> recv_doubles(std::size_t n, int from, int tag) {
   std::vector<double> v(n);
   MPI_Status st;
-  check(MPI_Recv(v.data(), static_cast<int>(n), MPI_DOUBLE, from, tag, MPI_COMM_WORLD, &st), "receive");
+  recv_into(v.data(), static_cast<int>(n), MPI_DOUBLE, from, tag, &st, "receive");
   int got = 0;
   MPI_Get_count(&st, MPI_DOUBLE, &got);
   if (static_cast<std::size_t>(got) != n)
@@ -46,6 +73,8 @@ void send_command(int to, Command c, int flag) {
   check(MPI_Send(header, 2, MPI_INT, to, kTagCommand, MPI_COMM_WORLD), "send a command");
 }
 
+// The end reasons follow the step's numbers at once, so a blocking probe waits no longer than an
+// exchange.
 std::string recv_string(int from, int tag) {
   MPI_Status st;
   check(MPI_Probe(from, tag, MPI_COMM_WORLD, &st), "probe");
@@ -82,13 +111,8 @@ MpiEnvPool::MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n
   if (!local_ || local_->size() != slices_[0].count)
     throw std::invalid_argument("MpiEnvPool: rank 0's pool must hold its slice of " + std::to_string(slices_[0].count) +
                                 " environments");
-  const auto n = static_cast<Eigen::Index>(n_envs);
-  result_.obs.resize(static_cast<Eigen::Index>(spec().observation.dim()), n);
-  result_.rewards.resize(n);
-  result_.terminated.assign(n_envs, 0);
-  result_.truncated.assign(n_envs, 0);
-  result_.terminal_obs.assign(n_envs, std::nullopt);
-  result_.reasons.assign(n_envs, {});
+  if (local_->threads() < 2) update_pool_ = std::make_unique<rl::ThreadPool>(2);
+  result_ = rl::VecStepResult(spec().observation.dim(), n_envs);
   last_in_band_.assign(n_envs, 0);
 }
 
@@ -189,7 +213,7 @@ void serve_env_pool(core::ThreadEnvPool& local) {
   const std::size_t n = local.size(), a = local.spec().action.dim();
   for (;;) {
     int header[2] = {0, 0};
-    check(MPI_Recv(header, 2, MPI_INT, 0, kTagCommand, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receive a command");
+    recv_into(header, 2, MPI_INT, 0, kTagCommand, MPI_STATUS_IGNORE, "receive a command");
     switch (header[0]) {
       case kStop:
         return;

@@ -5,7 +5,8 @@
 // MPI_COMM_WORLD (env_slice). Rank 0 runs the co-design (it samples the designs, runs the PPO
 // update, writes the run folder) and steps its own slice; every other rank holds only its slice's
 // environments (a ThreadEnvPool of its own simulators) and serves rank 0's calls until told to stop
-// (serve_env_pool). Each call of the EnvPool interface is one exchange:
+// (serve_env_pool, which waits for rank 0 without polling a core). Each call of the EnvPool
+// interface is one exchange:
 //   start(setups):  rank 0 sends each rank its slice's setups; each answers its first observations.
 //   step(actions):  rank 0 sends each rank its slice's action columns, steps its own slice
 //                   meanwhile, then receives each slice's rewards, end flags, in-band counts,
@@ -48,12 +49,18 @@ class MpiEnvPool final : public core::EnvPool {
   double settle_seconds() const override;
   double step_seconds() const override;
   void set_step_observer(std::size_t i, StepObserver observer, int every) override;
-  rl::ThreadPool* thread_pool() override { return local_->thread_pool(); }
+  // The PPO update's threads: rank 0's rollout threads, or two threads of its own when rank 0 steps
+  // its slice on one. The other ranks sleep through the update (serve_env_pool waits without
+  // polling), so on a machine shared by the ranks the update still gets the actor and the critic
+  // side by side, as with `--threads 2` in one process. Results do not change (env_pool.hpp).
+  rl::ThreadPool* thread_pool() override { return update_pool_ ? update_pool_.get() : local_->thread_pool(); }
+  std::size_t rollout_threads() const { return local_->threads(); }
 
  private:
   std::array<double, 2> remote_seconds() const;
 
   std::unique_ptr<core::ThreadEnvPool> local_;
+  std::unique_ptr<rl::ThreadPool> update_pool_;  // null when local_ has two threads or more
   std::size_t n_envs_;
   int ranks_;
   std::vector<EnvSlice> slices_;

@@ -17,7 +17,8 @@ double iteration_seconds(const ScalingCosts& c, int ranks) {
   const double rounds = static_cast<double>((busiest + static_cast<std::size_t>(c.threads_per_rank) - 1) /
                                             static_cast<std::size_t>(c.threads_per_rank));
   const double collect = rounds * c.env_collect_cpu_s + (ranks - 1) * c.exchanges * c.exchange_s;
-  return collect + c.update_s + c.policy_s + c.distribution_s;
+  const double update = c.update_spread ? c.update_s / ranks : c.update_s;
+  return collect + update + c.policy_s + c.distribution_s;
 }
 
 }  // namespace codesign::cluster

@@ -13,6 +13,9 @@
 // run on rank 0 alone: u the PPO update, p the policy inference, d the distribution update.
 // Amdahl's law with a message term: the serial part bounds the speed-up at (⌈ψ/t⌉·c + u + p + d) /
 // (c + u + p + d) however many ranks there are.
+// With update_spread the update's u becomes u / N: a data-parallel update (each rank computes the
+// gradient of its share of a minibatch) with free messages. Not built; a bound on what it could
+// give, for deciding where the update should run.
 #include <cstddef>
 
 namespace codesign::cluster {
@@ -26,6 +29,7 @@ struct ScalingCosts {
   double update_s = 0.0;             // u
   double policy_s = 0.0;             // p
   double distribution_s = 0.0;       // d
+  bool update_spread = false;        // u / N instead of u (see above)
 };
 
 // Seconds per iteration on `ranks` ranks (1 ≤ ranks ≤ environments; std::invalid_argument

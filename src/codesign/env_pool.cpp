@@ -11,13 +11,7 @@ ThreadEnvPool::ThreadEnvPool(std::shared_ptr<SimulatorPool> sims, const TaskConf
     : pool_(n_threads) {
   if (n_envs < 1) throw std::invalid_argument("ThreadEnvPool: need at least one environment");
   for (std::size_t i = 0; i < n_envs; ++i) envs_.push_back(std::make_unique<WhiskerEnv>(sims, task, privileged));
-  const auto n = static_cast<Eigen::Index>(n_envs);
-  result_.obs.resize(envs_.front()->spec().observation.dim(), n);
-  result_.rewards.resize(n);
-  result_.terminated.assign(n_envs, 0);
-  result_.truncated.assign(n_envs, 0);
-  result_.terminal_obs.assign(n_envs, std::nullopt);
-  result_.reasons.assign(n_envs, {});
+  result_ = rl::VecStepResult(envs_.front()->spec().observation.dim(), n_envs);
   last_in_band_.assign(n_envs, 0);
   observers_.resize(n_envs);
 }

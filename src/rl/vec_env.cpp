@@ -19,12 +19,7 @@ VecEnv::VecEnv(const EnvFactory& factory, std::size_t n_envs, std::uint64_t seed
         e->spec().action.dim() != spec().action.dim())
       throw std::invalid_argument("VecEnv: environments have different observation/action sizes");
   }
-  result_.obs.resize(static_cast<Eigen::Index>(obs_dim), static_cast<Eigen::Index>(n_envs));
-  result_.rewards.resize(static_cast<Eigen::Index>(n_envs));
-  result_.terminated.assign(n_envs, 0);
-  result_.truncated.assign(n_envs, 0);
-  result_.terminal_obs.assign(n_envs, std::nullopt);
-  result_.reasons.assign(n_envs, std::string());
+  result_ = VecStepResult(obs_dim, n_envs);
 }
 
 Eigen::MatrixXd VecEnv::reset() {

@@ -23,6 +23,15 @@
 namespace codesign::rl {
 
 struct VecStepResult {
+  VecStepResult() = default;
+  // Sized for n environments with obs_dim observations: nothing ended yet.
+  VecStepResult(std::size_t obs_dim, std::size_t n)
+      : obs(static_cast<Eigen::Index>(obs_dim), static_cast<Eigen::Index>(n)),
+        rewards(static_cast<Eigen::Index>(n)),
+        terminated(n, 0),
+        truncated(n, 0),
+        terminal_obs(n),
+        reasons(n) {}
   Eigen::MatrixXd obs;      // obs_dim x n: next observation (a reset observation where done)
   Eigen::VectorXd rewards;  // n
   std::vector<std::uint8_t> terminated;

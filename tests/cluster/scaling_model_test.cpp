@@ -38,6 +38,15 @@ TEST(ScalingModel, MatchesTheHandWorkedIterationTimes) {
   EXPECT_NEAR(iteration_seconds(one, 3), 14 * 0.25 + 2 * 51 * 1e-5 + serial, 1e-12);
 }
 
+TEST(ScalingModel, ASpreadUpdateDividesOnlyTheUpdateByTheRanks) {
+  ScalingCosts c = paper_like();
+  c.update_spread = true;
+  // 1 rank: as before (the whole update on the one rank).
+  EXPECT_NEAR(iteration_seconds(c, 1), 20 * 0.25 + 0.3 + 0.05 + 0.001, 1e-12);
+  // 16 ranks: 2 rounds, 15 · 51 exchanges, the update 0.3 / 16; policy and distribution stay whole.
+  EXPECT_NEAR(iteration_seconds(c, 16), 2 * 0.25 + 15 * 51 * 1e-5 + 0.3 / 16 + 0.05 + 0.001, 1e-12);
+}
+
 TEST(ScalingModel, NeverFasterThanItsSerialPartAndRefusesBadInput) {
   const ScalingCosts c = paper_like();
   for (int n = 1; n <= 40; ++n) {
