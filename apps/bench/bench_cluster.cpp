@@ -48,12 +48,8 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   const run::RunConfig setup = run::read_run_config(o.config);
   const run::RunSettings s = run::run_settings(setup);
   const core::LoopConfig& lc = s.loop;
-  const int rank = cluster::world_rank(), ranks = cluster::world_size();
-  run::check_rollout_ranks(lc, ranks);
-  if (rank != 0) {
-    run::serve_rollouts(s, static_cast<std::size_t>(o.threads), rank, ranks);
-    return 0;
-  }
+  if (run::serve_unless_rank_zero(s, static_cast<std::size_t>(o.threads))) return 0;
+  const int ranks = cluster::world_size();
   auto sims = std::make_shared<core::SimulatorPool>(s.spec, s.scene, s.solver);
   std::unique_ptr<core::EnvPool> envs = run::make_rollout_pool(sims, lc, static_cast<std::size_t>(o.threads), ranks);
   core::EnvPool* pool = envs.get();

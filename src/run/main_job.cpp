@@ -29,12 +29,7 @@ int run_main_job(const MainJobOptions& o) {
   const RunSettings s = run_settings(setup, io::TableReader::input_text(o.config));
   // Under an MPI launcher (docs/cluster.md) rank 0 is the run; every other rank only steps its
   // slice of the rollouts and touches no file.
-  const int rank = cluster::world_rank(), ranks = cluster::world_size();
-  check_rollout_ranks(s.loop, ranks);
-  if (rank != 0) {
-    serve_rollouts(s, static_cast<std::size_t>(o.threads), rank, ranks);
-    return 0;
-  }
+  if (serve_unless_rank_zero(s, static_cast<std::size_t>(o.threads))) return 0;
   // SIGTERM / SIGINT stop the run at the next iteration's end with a checkpoint (stop_signals.hpp),
   // and the run folder stays locked from here through the frames and figures.
   const StopSignals signals;
@@ -45,7 +40,7 @@ int run_main_job(const MainJobOptions& o) {
   ro.resume = o.resume;
   ro.force = o.force;
   ro.threads = static_cast<std::size_t>(o.threads);
-  ro.ranks = ranks;
+  ro.ranks = cluster::world_size();
   ro.progress = !o.quiet;
   ro.stop_after = o.stop_after;
   ro.telemetry_url = o.telemetry ? *o.telemetry : setup.telemetry_url;

@@ -5,6 +5,7 @@
 
 #include "base/errors.hpp"
 #include "cluster/mpi_env_pool.hpp"
+#include "cluster/mpi_world.hpp"
 
 namespace codesign::run {
 
@@ -14,7 +15,7 @@ cluster::EnvSlice slice_of(const core::LoopConfig& lc, int rank, int ranks) {
   try {
     return cluster::env_slice(static_cast<std::size_t>(lc.codesign.designs_per_update), rank, ranks);
   } catch (const std::invalid_argument& e) {
-    throw InputError("mpirun -np " + std::to_string(ranks) + ": codesign.designs_per_update = " +
+    throw InputError(std::to_string(ranks) + " MPI ranks (mpirun -np / srun -n): codesign.designs_per_update = " +
                      std::to_string(lc.codesign.designs_per_update) +
                      " environments cannot give every rank one; allowed: 1 to " +
                      std::to_string(lc.codesign.designs_per_update) + " ranks");
@@ -44,6 +45,14 @@ void serve_rollouts(const RunSettings& s, std::size_t threads, int rank, int ran
   auto sims = std::make_shared<core::SimulatorPool>(s.spec, s.scene, s.solver);
   core::ThreadEnvPool local(sims, lc.task, mine.count, threads, lc.ppo.privileged_critic);
   cluster::serve_env_pool(local);
+}
+
+bool serve_unless_rank_zero(const RunSettings& s, std::size_t threads) {
+  const int rank = cluster::world_rank(), ranks = cluster::world_size();
+  check_rollout_ranks(s.loop, ranks);
+  if (rank == 0) return false;
+  serve_rollouts(s, threads, rank, ranks);
+  return true;
 }
 
 }  // namespace codesign::run

@@ -20,6 +20,13 @@ void check_rollout_ranks(const core::LoopConfig& lc, int ranks);
 std::unique_ptr<core::EnvPool> make_rollout_pool(std::shared_ptr<core::SimulatorPool> sims, const core::LoopConfig& lc,
                                                  std::size_t threads, int ranks);
 
+// The start of every command that runs Algorithm 1 under an MPI launcher (docs/cluster.md): checks
+// the launch's rank count against the run's environments (check_rollout_ranks: InputError, on
+// every rank alike), then on ranks 1.. serves rank 0's rollouts until its pool is gone and returns
+// true (the caller ends: such a rank touches no file); on rank 0, or without a launcher, returns
+// false at once.
+bool serve_unless_rank_zero(const RunSettings& settings, std::size_t threads);
+
 // Ranks 1..ranks-1: this rank's slice of the run's environments (its own simulators, `threads`
 // threads), stepped for rank 0 until its pool is gone. SIGINT and SIGTERM are ignored here: the
 // launcher delivers them to every rank, and rank 0 answers them by finishing its iteration and

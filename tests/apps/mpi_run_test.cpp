@@ -187,7 +187,7 @@ TEST(MpiRun, BadRankCountsAndOtherCommandsAreOneMessage) {
   RunResult r = run_mpi(5, "run --config " + (dir / "tiny.toml").string() + " --threads 1 --quiet -o " +
                                (dir / "five").string());
   EXPECT_NE(r.status, 0) << r.output;
-  const std::string m = "codesign: error: mpirun -np 5: codesign.designs_per_update = 4 environments cannot give "
+  const std::string m = "codesign: error: 5 MPI ranks (mpirun -np / srun -n): codesign.designs_per_update = 4 environments cannot give "
                         "every rank one; allowed: 1 to 4 ranks";
   ASSERT_NE(r.output.find(m), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find(m), r.output.rfind(m)) << "said more than once:\n" << r.output;
