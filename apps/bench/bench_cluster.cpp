@@ -86,12 +86,10 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   const double n = o.iterations;
   // The collection wall of one environment in one round of the busiest rank's threads: this
   // launch's collection less its policy inference and its messages, over its rounds.
-  const auto rounds_here = [&](std::size_t t) {
-    const std::size_t busiest = cluster::env_slice(static_cast<std::size_t>(psi), 0, ranks).count;
-    return static_cast<double>((busiest + t - 1) / t);
-  };
   const double messages = (ranks - 1) * (n_steps + 1) * exchange;
-  const double env_wall = std::max(0.0, collect / n - policy / n - messages) / rounds_here(threads);
+  const double env_wall =
+      std::max(0.0, collect / n - policy / n - messages) /
+      static_cast<double>(cluster::collection_rounds(static_cast<std::size_t>(psi), ranks, static_cast<int>(threads)));
   std::printf("bench cluster: measured on %d rank(s): %.3f s per iteration: collection %.3f s (policy inference "
               "%.3f s of it), PPO update %.3f s, distribution %.4f s\n",
               ranks, wall / n, collect / n, policy / n, update / n, dist / n);
@@ -110,7 +108,7 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   cluster::ScalingCosts c;
   c.environments = static_cast<std::size_t>(psi);
   c.threads_per_rank = o.model_threads > 0 ? o.model_threads : static_cast<int>(threads);
-  c.env_collect_cpu_s = env_wall;
+  c.env_collect_s = env_wall;
   c.exchanges = n_steps + 1;
   c.exchange_s = exchange;
   c.update_s = update / n;
@@ -143,7 +141,7 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   std::printf("  serial part per iteration (update + policy + distribution): %.3f s: with the update on rank 0 the "
               "model's floor is %.1f min\n",
               c.update_s + c.policy_s + c.distribution_s,
-              iterations_total * (c.update_s + c.policy_s + c.distribution_s + c.env_collect_cpu_s) / 60.0);
+              iterations_total * (c.update_s + c.policy_s + c.distribution_s + c.env_collect_s) / 60.0);
   return 0;
 }
 

@@ -54,7 +54,6 @@ class MpiEnvPool final : public core::EnvPool {
   // polling), so on a machine shared by the ranks the update still gets the actor and the critic
   // side by side, as with `--threads 2` in one process. Results do not change (env_pool.hpp).
   rl::ThreadPool* thread_pool() override { return update_pool_ ? update_pool_.get() : local_->thread_pool(); }
-  std::size_t rollout_threads() const { return local_->threads(); }
 
  private:
   std::array<double, 2> remote_seconds() const;

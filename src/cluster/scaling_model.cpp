@@ -6,17 +6,21 @@
 
 namespace codesign::cluster {
 
+std::size_t collection_rounds(std::size_t environments, int ranks, int threads) {
+  if (threads < 1) throw std::invalid_argument("collection_rounds: threads < 1");
+  const std::size_t busiest = env_slice(environments, 0, ranks).count;  // rank 0 holds a largest slice
+  // ⌈busiest / t⌉ rounds of one environment each when busiest ≥ t, else one round on `busiest` threads.
+  const auto t = static_cast<std::size_t>(threads);
+  return (busiest + t - 1) / t;
+}
+
 double iteration_seconds(const ScalingCosts& c, int ranks) {
   if (c.threads_per_rank < 1) throw std::invalid_argument("iteration_seconds: threads_per_rank < 1");
-  if (c.env_collect_cpu_s < 0 || c.exchange_s < 0 || c.update_s < 0 || c.policy_s < 0 || c.distribution_s < 0 ||
+  if (c.env_collect_s < 0 || c.exchange_s < 0 || c.update_s < 0 || c.policy_s < 0 || c.distribution_s < 0 ||
       c.exchanges < 0)
     throw std::invalid_argument("iteration_seconds: a negative cost");
-  const std::size_t busiest = env_slice(c.environments, 0, ranks).count;  // rank 0 holds a largest slice
-  // A rank's environments run on its threads: ⌈busiest / t⌉ rounds of one environment each when
-  // busiest ≥ t, else one round on `busiest` threads.
-  const double rounds = static_cast<double>((busiest + static_cast<std::size_t>(c.threads_per_rank) - 1) /
-                                            static_cast<std::size_t>(c.threads_per_rank));
-  const double collect = rounds * c.env_collect_cpu_s + (ranks - 1) * c.exchanges * c.exchange_s;
+  const double rounds = static_cast<double>(collection_rounds(c.environments, ranks, c.threads_per_rank));
+  const double collect = rounds * c.env_collect_s + (ranks - 1) * c.exchanges * c.exchange_s;
   const double update = c.update_spread ? c.update_s / ranks : c.update_s;
   return collect + update + c.policy_s + c.distribution_s;
 }

@@ -6,8 +6,9 @@
 //   collection  ⌈⌈ψ/N⌉ / t⌉ · c  +  (N − 1) · s · x
 //   serial      u + p + d
 // with ψ environments split as cluster::env_slice does (the busiest rank holds ⌈ψ/N⌉, stepped on
-// its t threads in rounds of t environments of equal cost), c the collection CPU of one
-// environment over an iteration (its settles and FEM steps), s the
+// its t threads in rounds of t environments of equal cost), c the collection wall of one
+// environment per round over an iteration (its settles and FEM steps, and what a round costs
+// besides: resets, observations, thread hand-offs; `bench cluster` measures it), s the
 // exchanges per iteration (one per decision and one start), x the cost of one exchange between
 // rank 0 and one other rank (rank 0 talks to the ranks one after the other), and the parts that
 // run on rank 0 alone: u the PPO update, p the policy inference, d the distribution update.
@@ -23,7 +24,7 @@ namespace codesign::cluster {
 struct ScalingCosts {
   std::size_t environments = 40;     // ψ
   int threads_per_rank = 1;          // t
-  double env_collect_cpu_s = 0.0;    // c
+  double env_collect_s = 0.0;        // c
   int exchanges = 51;                // s: decisions per episode + 1
   double exchange_s = 0.0;           // x
   double update_s = 0.0;             // u
@@ -31,6 +32,10 @@ struct ScalingCosts {
   double distribution_s = 0.0;       // d
   bool update_spread = false;        // u / N instead of u (see above)
 };
+
+// ⌈⌈environments/ranks⌉ / threads⌉: the rounds of one environment each that the busiest rank's
+// threads step per decision (env_slice's split; std::invalid_argument as env_slice, or threads < 1).
+std::size_t collection_rounds(std::size_t environments, int ranks, int threads);
 
 // Seconds per iteration on `ranks` ranks (1 ≤ ranks ≤ environments; std::invalid_argument
 // otherwise, or for threads_per_rank < 1 or a negative cost).

@@ -14,7 +14,7 @@ ScalingCosts paper_like() {
   ScalingCosts c;
   c.environments = 40;
   c.threads_per_rank = 2;
-  c.env_collect_cpu_s = 0.25;
+  c.env_collect_s = 0.25;
   c.exchanges = 51;
   c.exchange_s = 1e-5;
   c.update_s = 0.3;
@@ -38,6 +38,16 @@ TEST(ScalingModel, MatchesTheHandWorkedIterationTimes) {
   EXPECT_NEAR(iteration_seconds(one, 3), 14 * 0.25 + 2 * 51 * 1e-5 + serial, 1e-12);
 }
 
+TEST(ScalingModel, CollectionRoundsAreTheBusiestRanksEnvironmentsOverItsThreads) {
+  using codesign::cluster::collection_rounds;
+  EXPECT_EQ(collection_rounds(40, 1, 2), 20u);   // 40 on one rank of 2 threads
+  EXPECT_EQ(collection_rounds(40, 16, 2), 2u);   // the busiest of 16 holds 3
+  EXPECT_EQ(collection_rounds(40, 3, 1), 14u);   // 14 + 13 + 13
+  EXPECT_EQ(collection_rounds(40, 40, 2), 1u);   // one each, fewer than the threads
+  EXPECT_THROW(collection_rounds(40, 2, 0), std::invalid_argument);
+  EXPECT_THROW(collection_rounds(40, 41, 1), std::invalid_argument);
+}
+
 TEST(ScalingModel, ASpreadUpdateDividesOnlyTheUpdateByTheRanks) {
   ScalingCosts c = paper_like();
   c.update_spread = true;
@@ -50,7 +60,7 @@ TEST(ScalingModel, ASpreadUpdateDividesOnlyTheUpdateByTheRanks) {
 TEST(ScalingModel, NeverFasterThanItsSerialPartAndRefusesBadInput) {
   const ScalingCosts c = paper_like();
   for (int n = 1; n <= 40; ++n) {
-    EXPECT_GT(iteration_seconds(c, n), c.update_s + c.policy_s + c.distribution_s + c.env_collect_cpu_s - 1e-12);
+    EXPECT_GT(iteration_seconds(c, n), c.update_s + c.policy_s + c.distribution_s + c.env_collect_s - 1e-12);
   }
   EXPECT_THROW(iteration_seconds(c, 0), std::invalid_argument);
   EXPECT_THROW(iteration_seconds(c, 41), std::invalid_argument);
