@@ -1,8 +1,14 @@
 #include "codesign/env_pool.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <limits>
+#include <numeric>
 #include <stdexcept>
+
+#include "base/seconds_since.hpp"
+#include "fem/design.hpp"
 
 namespace codesign::core {
 
@@ -14,6 +20,15 @@ ThreadEnvPool::ThreadEnvPool(std::shared_ptr<SimulatorPool> sims, const TaskConf
   result_ = rl::VecStepResult(envs_.front()->spec().observation.dim(), n_envs);
   last_in_band_.assign(n_envs, 0);
   observers_.resize(n_envs);
+  step_cost_.assign(n_envs, 0.0);
+  start_cost_.assign(fem::kDesignCount, std::numeric_limits<double>::infinity());
+  start_cost_env_.assign(n_envs, 0.0);
+  order_.resize(n_envs);
+}
+
+void ThreadEnvPool::order_by_cost(const std::vector<double>& cost) {
+  std::iota(order_.begin(), order_.end(), std::size_t{0});
+  std::stable_sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) { return cost[a] > cost[b]; });
 }
 
 void ThreadEnvPool::set_step_observer(std::size_t i, StepObserver observer, int every) {
@@ -26,17 +41,29 @@ void ThreadEnvPool::set_step_observer(std::size_t i, StepObserver observer, int 
 Eigen::MatrixXd ThreadEnvPool::start(const std::vector<EpisodeSetup>& setups) {
   if (setups.size() != envs_.size()) throw std::invalid_argument("ThreadEnvPool::start: one setup per environment");
   Eigen::MatrixXd obs(spec().observation.dim(), static_cast<Eigen::Index>(envs_.size()));
-  pool_.parallel_for(envs_.size(), [&](std::size_t i) {
+  std::vector<double> predicted(envs_.size());
+  for (std::size_t i = 0; i < envs_.size(); ++i) {
+    const int d = setups[i].design;
+    predicted[i] = d >= 0 && d < fem::kDesignCount ? start_cost_[static_cast<std::size_t>(d)] : 0.0;
+  }
+  order_by_cost(predicted);
+  pool_.parallel_for_ordered(order_, [&](std::size_t i) {
+    const auto t0 = std::chrono::steady_clock::now();
     envs_[i]->set_episode(setups[i]);
     obs.col(static_cast<Eigen::Index>(i)) = envs_[i]->reset(std::nullopt);
+    start_cost_env_[i] = seconds_since(t0);
   });
+  for (std::size_t i = 0; i < envs_.size(); ++i)
+    start_cost_[static_cast<std::size_t>(setups[i].design)] = start_cost_env_[i];
   return obs;
 }
 
 const rl::VecStepResult& ThreadEnvPool::step(const Eigen::MatrixXd& actions, bool restart) {
   if (actions.cols() != static_cast<Eigen::Index>(envs_.size()))
     throw std::invalid_argument("ThreadEnvPool::step: one action column per environment");
-  pool_.parallel_for(envs_.size(), [&](std::size_t i) {
+  order_by_cost(step_cost_);
+  pool_.parallel_for_ordered(order_, [&](std::size_t i) {
+    const auto t0 = std::chrono::steady_clock::now();
     const auto c = static_cast<Eigen::Index>(i);
     WhiskerEnv& env = *envs_[i];
     rl::StepResult r = env.step(actions.col(c));
@@ -57,6 +84,7 @@ const rl::VecStepResult& ThreadEnvPool::step(const Eigen::MatrixXd& actions, boo
       result_.terminal_obs[i].reset();
       result_.obs.col(c) = r.obs;
     }
+    step_cost_[i] = seconds_since(t0);
   });
   return result_;
 }

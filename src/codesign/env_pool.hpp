@@ -79,6 +79,14 @@ class ThreadEnvPool final : public EnvPool {
     std::int64_t decisions = 0;
   };
   std::vector<Observer> observers_;  // one per environment
+  // Longest-first scheduling (ThreadPool::parallel_for_ordered): each environment's last step
+  // and each design's last start, in seconds of wall time, predict the next ones; the costliest
+  // are claimed first so the threads finish a step together. Only the order of work changes.
+  std::vector<double> step_cost_;          // per environment
+  std::vector<double> start_cost_;         // per design (+inf: never started here yet)
+  std::vector<double> start_cost_env_;     // per environment, this start's cost
+  std::vector<std::size_t> order_;
+  void order_by_cost(const std::vector<double>& cost);
 };
 
 }  // namespace codesign::core

@@ -39,12 +39,6 @@ EmbeddedPoint embed_point(const TetMesh& mesh, const Eigen::Vector3d& p, double 
   return best;
 }
 
-Eigen::Vector3d embedded_position(const TetMesh& mesh, const EmbeddedPoint& p, const Eigen::VectorXd& x) {
-  Eigen::Vector3d q = Eigen::Vector3d::Zero();
-  for (int a = 0; a < 4; ++a) q += p.weights[a] * x.segment<3>(3 * mesh.tets[p.tet][a]);
-  return q;
-}
-
 std::vector<FibreSpring> make_fibre_springs(const TetMesh& mesh,
                                             const std::vector<std::vector<Eigen::Vector3d>>& polylines,
                                             double axial_stiffness_uN) {

@@ -38,7 +38,12 @@ std::vector<FibreSpring> make_fibre_springs(const TetMesh& mesh,
                                             const std::vector<std::vector<Eigen::Vector3d>>& polylines,
                                             double axial_stiffness_uN);
 
-// Position of an embedded point given all node positions (3N vector, node-major).
-Eigen::Vector3d embedded_position(const TetMesh& mesh, const EmbeddedPoint& p, const Eigen::VectorXd& x);
+// Position of an embedded point given all node positions (3N vector, node-major). Inline: the
+// fibre loops of every force pass and stiffness product call it twice per spring.
+inline Eigen::Vector3d embedded_position(const TetMesh& mesh, const EmbeddedPoint& p, const Eigen::VectorXd& x) {
+  Eigen::Vector3d q = Eigen::Vector3d::Zero();
+  for (int a = 0; a < 4; ++a) q += p.weights[a] * x.segment<3>(3 * mesh.tets[p.tet][a]);
+  return q;
+}
 
 }  // namespace codesign::fem

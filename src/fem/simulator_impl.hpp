@@ -97,6 +97,14 @@ struct Simulator::Impl {
   Eigen::VectorXd work_u;                       // apply_ref_inverse's rotated right-hand side
   std::vector<Eigen::Matrix3d> node_rot, warp;  // per free node (fast method)
   std::vector<Eigen::Quaterniond> node_qrot;
+  // update_node_rotations' per-element data in one contiguous array (the free index of each of
+  // its nodes, -1 where fixed, and its rest volume), built on first use; and its accumulators.
+  struct RotationTerm {
+    std::array<int, 4> free;
+    double volume;
+  };
+  std::vector<RotationTerm> rotation_terms;
+  std::vector<Eigen::Vector4d> rotation_acc;
 
   // ------------------------------------------------ simulator.cpp: set-up and the time step
   Impl(std::shared_ptr<const Model> m, const SceneConfig& sc, const SolverConfig& so);

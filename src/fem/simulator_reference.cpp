@@ -34,17 +34,31 @@ bool Simulator::Impl::build_reference(Reference& ref, double dt) {
 
 void Simulator::Impl::update_node_rotations() {
   if (static_cast<int>(node_qrot.size()) != nfree) node_qrot.assign(nfree, Eigen::Quaterniond(base_rotation(0.0)));
-  std::vector<Eigen::Vector4d> acc(nfree, Eigen::Vector4d::Zero());
   const auto& tets = model->mesh.tets;
+  if (rotation_terms.size() != tets.size()) {
+    rotation_terms.resize(tets.size());
+    for (std::size_t e = 0; e < tets.size(); ++e) {
+      for (int a = 0; a < 4; ++a) rotation_terms[e].free[a] = free_index[tets[e][a]];
+      rotation_terms[e].volume = model->rest[e].volume;
+    }
+  }
+  rotation_acc.assign(nfree, Eigen::Vector4d::Zero());
+  // The element quaternions straight from the batch's lanes: [group][w, x, y, z][lane], read as
+  // the coefficients (x, y, z, w) that Eigen::Quaterniond::coeffs() gives.
+  constexpr int W = CorotatedBatch::kLanes;
+  const double* q = batch.rotations().q.data();
   for (std::size_t e = 0; e < tets.size(); ++e) {
-    const Eigen::Vector4d qe = batch.quaternion(static_cast<int>(e)).coeffs() * model->rest[e].volume;
+    const double* qg = q + (e / W) * 4 * W + e % W;
+    const RotationTerm& term = rotation_terms[e];
+    const Eigen::Vector4d qe = Eigen::Vector4d(qg[W], qg[2 * W], qg[3 * W], qg[0]) * term.volume;
     for (int a = 0; a < 4; ++a)
-      if (const int k = free_index[tets[e][a]]; k >= 0) acc[k] += qe.dot(node_qrot[k].coeffs()) >= 0.0 ? qe : Eigen::Vector4d(-qe);
+      if (const int k = term.free[a]; k >= 0)
+        rotation_acc[k] += qe.dot(node_qrot[k].coeffs()) >= 0.0 ? qe : Eigen::Vector4d(-qe);
   }
   node_rot.resize(nfree);
   for (int k = 0; k < nfree; ++k) {
-    const double nrm = acc[k].norm();
-    if (nrm > 0.0) node_qrot[k].coeffs() = acc[k] / nrm;
+    const double nrm = rotation_acc[k].norm();
+    if (nrm > 0.0) node_qrot[k].coeffs() = rotation_acc[k] / nrm;
     node_rot[k] = node_qrot[k].toRotationMatrix();
   }
 }

@@ -27,6 +27,7 @@ void ThreadPool::run_chunk() {
       std::lock_guard lock(mutex_);
       if (next_index_ >= job_size_) return;
       i = next_index_++;
+      if (job_order_) i = (*job_order_)[i];
     }
     try {
       (*job_)(i);
@@ -57,14 +58,25 @@ void ThreadPool::worker_loop() {
 }
 
 void ThreadPool::parallel_for(std::size_t n, const std::function<void(std::size_t)>& fn) {
+  run_job(n, nullptr, fn);
+}
+
+void ThreadPool::parallel_for_ordered(const std::vector<std::size_t>& order,
+                                      const std::function<void(std::size_t)>& fn) {
+  run_job(order.size(), &order, fn);
+}
+
+void ThreadPool::run_job(std::size_t n, const std::vector<std::size_t>* order,
+                         const std::function<void(std::size_t)>& fn) {
   if (n == 0) return;
   if (workers_.empty() || n == 1) {
-    for (std::size_t i = 0; i < n; ++i) fn(i);
+    for (std::size_t i = 0; i < n; ++i) fn(order ? (*order)[i] : i);
     return;
   }
   {
     std::lock_guard lock(mutex_);
     job_ = &fn;
+    job_order_ = order;
     job_size_ = n;
     next_index_ = 0;
     error_ = nullptr;
@@ -78,6 +90,7 @@ void ThreadPool::parallel_for(std::size_t n, const std::function<void(std::size_
     // All indices are claimed once run_chunk returns; wait for the calls still running.
     done_.wait(lock, [&] { return busy_ == 0; });
     job_ = nullptr;
+    job_order_ = nullptr;
     job_size_ = 0;
     error = error_;
     error_ = nullptr;

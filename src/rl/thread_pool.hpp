@@ -27,16 +27,22 @@ class ThreadPool {
 
   std::size_t size() const { return workers_.size() + 1; }
   void parallel_for(std::size_t n, const std::function<void(std::size_t)>& fn);
+  // fn(order[0]), fn(order[1]), ...: the same calls, claimed in this order. With the costliest
+  // indices first the threads finish closer together (longest-processing-time-first scheduling);
+  // the results are those of parallel_for, as fn(i) touches only data of index i.
+  void parallel_for_ordered(const std::vector<std::size_t>& order, const std::function<void(std::size_t)>& fn);
 
  private:
   void worker_loop();
   void run_chunk();
+  void run_job(std::size_t n, const std::vector<std::size_t>* order, const std::function<void(std::size_t)>& fn);
 
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable wake_;
   std::condition_variable done_;
   const std::function<void(std::size_t)>* job_ = nullptr;
+  const std::vector<std::size_t>* job_order_ = nullptr;  // null: indices in increasing order
   std::size_t job_size_ = 0;
   std::size_t next_index_ = 0;
   std::size_t busy_ = 0;        // workers currently inside the job
