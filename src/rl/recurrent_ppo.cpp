@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -71,6 +72,30 @@ template PpoLossT<double> recurrent_minibatch_loss<double>(const RecurrentActorC
                                                            const PpoLossCoefficients&,
                                                            RecurrentActorCriticGradT<double>*,
                                                            RecurrentWorkspaceT<double>&);
+
+namespace {
+
+// Adam's step over the blocks on two threads of `pool` (or on the caller): the update is element
+// by element, so splitting the blocks into two groups of about equal size changes no result.
+void adam_step_in_pair(Adam& optimizer, std::span<const AdamBlock<float>> blocks, double lr, double grad_scale,
+                       ThreadPool* pool) {
+  optimizer.begin_step(blocks, lr, grad_scale);
+  Eigen::Index total = 0;
+  for (const auto& b : blocks) total += b.size;
+  std::size_t split = 0;
+  for (Eigen::Index first = 0; split < blocks.size() && 2 * (first + blocks[split].size) <= total; ++split)
+    first += blocks[split].size;
+  run_pair(
+      pool,
+      [&] {
+        for (std::size_t i = 0; i < split; ++i) optimizer.apply(blocks, i, 0, blocks[i].size);
+      },
+      [&] {
+        for (std::size_t i = split; i < blocks.size(); ++i) optimizer.apply(blocks, i, 0, blocks[i].size);
+      });
+}
+
+}  // namespace
 
 int sequences_per_minibatch(const PpoConfig& config, int n_envs) {
   return std::clamp(config.batch_size / std::max(config.n_steps, 1), 1, std::max(n_envs, 1));
@@ -144,7 +169,7 @@ PpoStats recurrent_ppo_update(RecurrentActorCritic& model, Adam& optimizer, cons
       const double norm = std::sqrt(l.grad_squared_norm);
       sums.norm += norm;
       const double clip_coef = config.max_grad_norm / (norm + 1e-6);
-      optimizer.step(blocks, lr, std::min(clip_coef, 1.0));
+      adam_step_in_pair(optimizer, blocks, lr, std::min(clip_coef, 1.0), pool);
       apply_log_std_floor(config, model.log_std());
       ++stats.minibatches_applied;
     }
