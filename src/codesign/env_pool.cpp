@@ -22,7 +22,6 @@ ThreadEnvPool::ThreadEnvPool(std::shared_ptr<SimulatorPool> sims, const TaskConf
   observers_.resize(n_envs);
   step_cost_.assign(n_envs, 0.0);
   start_cost_.assign(fem::kDesignCount, std::numeric_limits<double>::infinity());
-  start_cost_env_.assign(n_envs, 0.0);
   order_.resize(n_envs);
 }
 
@@ -47,14 +46,14 @@ Eigen::MatrixXd ThreadEnvPool::start(const std::vector<EpisodeSetup>& setups) {
     predicted[i] = d >= 0 && d < fem::kDesignCount ? start_cost_[static_cast<std::size_t>(d)] : 0.0;
   }
   order_by_cost(predicted);
+  std::vector<double> took(envs_.size());  // this start's cost per environment
   pool_.parallel_for_ordered(order_, [&](std::size_t i) {
     const auto t0 = std::chrono::steady_clock::now();
     envs_[i]->set_episode(setups[i]);
     obs.col(static_cast<Eigen::Index>(i)) = envs_[i]->reset(std::nullopt);
-    start_cost_env_[i] = seconds_since(t0);
+    took[i] = seconds_since(t0);
   });
-  for (std::size_t i = 0; i < envs_.size(); ++i)
-    start_cost_[static_cast<std::size_t>(setups[i].design)] = start_cost_env_[i];
+  for (std::size_t i = 0; i < envs_.size(); ++i) start_cost_[static_cast<std::size_t>(setups[i].design)] = took[i];
   return obs;
 }
 

@@ -84,7 +84,6 @@ class ThreadEnvPool final : public EnvPool {
   // are claimed first so the threads finish a step together. Only the order of work changes.
   std::vector<double> step_cost_;          // per environment
   std::vector<double> start_cost_;         // per design (+inf: never started here yet)
-  std::vector<double> start_cost_env_;     // per environment, this start's cost
   std::vector<std::size_t> order_;
   void order_by_cost(const std::vector<double>& cost);
 };

@@ -210,12 +210,6 @@ Eigen::Matrix3d CorotatedBatch::rotation(int e) const {
   return R;
 }
 
-Eigen::Quaterniond CorotatedBatch::quaternion(int e) const {
-  const std::size_t b = e / W, l = e % W;
-  const double* q = &rot_.q[b * 4 * W];
-  return Eigen::Quaterniond(q[0 * W + l], q[1 * W + l], q[2 * W + l], q[3 * W + l]);
-}
-
 std::vector<Eigen::Matrix3d> CorotatedBatch::rotation_matrices() const {
   std::vector<Eigen::Matrix3d> out(static_cast<std::size_t>(elements_));
   for (int e = 0; e < elements_; ++e) out[static_cast<std::size_t>(e)] = rotation(e);

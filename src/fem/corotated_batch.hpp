@@ -37,9 +37,14 @@ class CorotatedBatch {
   void set_all_rotations(const Eigen::Matrix3d& G);
   // Every element's matrix set to G, the quaternions (warm starts) kept.
   void set_all_rotation_matrices(const Eigen::Matrix3d& G);
-  // The rotation of element e, as a matrix and as a unit quaternion.
+  // The rotation of element e, as a matrix and as a unit quaternion (inline: the simulator's
+  // node rotations read every element's quaternion once per fast step).
   Eigen::Matrix3d rotation(int e) const;
-  Eigen::Quaterniond quaternion(int e) const;
+  Eigen::Quaterniond quaternion(int e) const {
+    const std::size_t b = static_cast<std::size_t>(e) / kLanes, l = static_cast<std::size_t>(e) % kLanes;
+    const double* q = &rot_.q[b * 4 * kLanes];
+    return Eigen::Quaterniond(q[0 * kLanes + l], q[1 * kLanes + l], q[2 * kLanes + l], q[3 * kLanes + l]);
+  }
   // All matrices, element by element (for the assembly of a system matrix).
   std::vector<Eigen::Matrix3d> rotation_matrices() const;
   const Rotations& rotations() const { return rot_; }

@@ -43,14 +43,9 @@ void Simulator::Impl::update_node_rotations() {
     }
   }
   rotation_acc.assign(nfree, Eigen::Vector4d::Zero());
-  // The element quaternions straight from the batch's lanes: [group][w, x, y, z][lane], read as
-  // the coefficients (x, y, z, w) that Eigen::Quaterniond::coeffs() gives.
-  constexpr int W = CorotatedBatch::kLanes;
-  const double* q = batch.rotations().q.data();
   for (std::size_t e = 0; e < tets.size(); ++e) {
-    const double* qg = q + (e / W) * 4 * W + e % W;
     const RotationTerm& term = rotation_terms[e];
-    const Eigen::Vector4d qe = Eigen::Vector4d(qg[W], qg[2 * W], qg[3 * W], qg[0]) * term.volume;
+    const Eigen::Vector4d qe = batch.quaternion(static_cast<int>(e)).coeffs() * term.volume;
     for (int a = 0; a < 4; ++a)
       if (const int k = term.free[a]; k >= 0)
         rotation_acc[k] += qe.dot(node_qrot[k].coeffs()) >= 0.0 ? qe : Eigen::Vector4d(-qe);
