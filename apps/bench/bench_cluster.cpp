@@ -1,5 +1,5 @@
 // `codesign bench cluster [--config configs/paper.toml] [--iterations N] [--warmup K]
-//                         [--threads T] [--model-threads T] [--exchanges N]`
+//                         [--threads T] [--model-threads T] [--exchanges N] [--contiguous]`
 // alone, or under `mpirun -np N` (issue 20 §3, docs/cluster.md).
 //
 // Rank 0 runs K warm-up iterations of Algorithm 1 (they mesh the designs first sampled and build
@@ -18,11 +18,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "cli_options.hpp"
+#include "cluster/cost_spread.hpp"
 #include "cluster/mpi_env_pool.hpp"
 #include "cluster/mpi_world.hpp"
 #include "cluster/scaling_model.hpp"
@@ -42,6 +45,8 @@ struct BenchClusterOptions {
   int threads = 0;
   int model_threads = 0;
   int exchanges = 200;
+  bool contiguous = false;
+  int spread_draws = 4000;
 };
 
 int run_bench_cluster(const BenchClusterOptions& o) {
@@ -53,13 +58,22 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   auto sims = std::make_shared<core::SimulatorPool>(s.spec, s.scene, s.solver);
   std::unique_ptr<core::EnvPool> envs = run::make_rollout_pool(sims, lc, static_cast<std::size_t>(o.threads), ranks);
   core::EnvPool* pool = envs.get();
+  auto* mpi_pool = dynamic_cast<cluster::MpiEnvPool*>(pool);
+  if (mpi_pool) mpi_pool->set_share_by_cost(!o.contiguous);
   const std::size_t threads =
       o.threads > 0 ? static_cast<std::size_t>(o.threads) : std::max(1u, std::thread::hardware_concurrency());
   core::OuterLoop loop(lc, std::move(envs));
   const int psi = lc.codesign.designs_per_update, n_steps = lc.ppo.n_steps;
   std::printf("bench cluster: %s: psi = %d environments x %d decisions; %d rank(s) x %zu thread(s)\n", o.config.c_str(),
               psi, n_steps, ranks, threads);
-  for (int k = 0; k < o.warmup; ++k) loop.iterate();  // meshes the sampled designs, builds simulators, allocates
+  // Each environment's settle and step CPU over each iteration, with its design: for the designs'
+  // cost spread in the model (cluster/cost_spread.hpp). Read between iterations, outside the timing.
+  std::vector<cluster::CostSample> costs;
+  auto keep_costs = [&](const core::IterationReport& r) {
+    const std::vector<double> w = pool->work_since_start();
+    for (std::size_t i = 0; i < w.size() && i < r.samples.size(); ++i) costs.push_back({r.samples[i].design, w[i]});
+  };
+  for (int k = 0; k < o.warmup; ++k) keep_costs(loop.iterate());  // meshes the sampled designs, builds simulators
   const int built0 = sims->constructed();
 
   // One exchange of a step's shape with one rank: the actions of the largest slice of a 2-rank
@@ -72,7 +86,12 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   }
 
   const double settle0 = pool->settle_seconds(), step0 = pool->step_seconds();
-  double collect = 0.0, update = 0.0, dist = 0.0, policy = 0.0;
+
+  const int starts0 = mpi_pool ? mpi_pool->starts() : 0, moved0 = mpi_pool ? mpi_pool->reassigned_starts() : 0;
+  const double start_wait0 = mpi_pool ? mpi_pool->start_wait_seconds() : 0.0;
+  const double step_wait0 = mpi_pool ? mpi_pool->step_wait_seconds() : 0.0;
+  double collect = 0.0, update = 0.0, dist = 0.0, policy = 0.0, imbalance = 0.0, imbalance_s = 0.0;
+  std::size_t restarts = 0;  // episodes that ended before the rollout's last step and so restarted
   const auto t0 = std::chrono::steady_clock::now();
   for (int k = 0; k < o.iterations; ++k) {
     const core::IterationReport r = loop.iterate();
@@ -80,8 +99,18 @@ int run_bench_cluster(const BenchClusterOptions& o) {
     update += r.update_s;
     dist += r.distribution_s;
     policy += r.policy_s;
+    std::vector<int> taken(static_cast<std::size_t>(psi), 0);  // decisions of each environment so far
+    for (const core::EpisodeRecord& e : r.episodes) {
+      taken[static_cast<std::size_t>(e.env)] += e.decisions;
+      if (e.reason != "rollout_end" && taken[static_cast<std::size_t>(e.env)] < n_steps) ++restarts;
+    }
+    // Not part of a run (under MPI an exchange with every rank): left out of the wall time.
+    const auto q0 = std::chrono::steady_clock::now();
+    keep_costs(r);
+    if (mpi_pool) imbalance += mpi_pool->imbalance_since_start();
+    imbalance_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - q0).count();
   }
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() - imbalance_s;
   const double env_cpu = (pool->settle_seconds() - settle0 + pool->step_seconds() - step0) / o.iterations / psi;
   const double n = o.iterations;
   // The collection wall of one environment in one round of the busiest rank's threads: this
@@ -98,6 +127,19 @@ int run_bench_cluster(const BenchClusterOptions& o) {
               env_cpu, env_wall);
   std::printf("  simulators built during the timed iterations on rank 0: %d (after %d warm-up iteration(s))\n",
               sims->constructed() - built0, o.warmup);
+  std::printf("  of it in settles (each start's and each restart's): %.4f s CPU; episodes restarted within a rollout: "
+              "%.1f per iteration\n",
+              (pool->settle_seconds() - settle0) / o.iterations / psi, static_cast<double>(restarts) / n);
+  if (mpi_pool)
+    std::printf("  environments shared out by cost at %d of %d timed starts; the busiest rank's settle and step CPU "
+                "over the mean rank's: %.3f (mean over the timed iterations; 1 = balanced)\n",
+                mpi_pool->reassigned_starts() - moved0, mpi_pool->starts() - starts0, imbalance / o.iterations);
+  if (mpi_pool)
+    std::printf("  rank 0 idle at the meeting points, waiting for the other ranks after its own share: %.3f s per "
+                "iteration (%.3f s at the start, %.3f s over the steps)\n",
+                (mpi_pool->start_wait_seconds() - start_wait0 + mpi_pool->step_wait_seconds() - step_wait0) / o.iterations,
+                (mpi_pool->start_wait_seconds() - start_wait0) / o.iterations,
+                (mpi_pool->step_wait_seconds() - step_wait0) / o.iterations);
   if (ranks > 1)
     std::printf("  one exchange rank 0 <-> one rank (a step's shape, mean of %d rounds over %d ranks): %.1f us\n",
                 o.exchanges, ranks - 1, 1e6 * exchange);
@@ -138,6 +180,30 @@ int run_bench_cluster(const BenchClusterOptions& o) {
                 "%s; %.1f min with it spread (not built): %s\n",
                 m16, m16 <= 5.0 ? "met" : "NOT met", s16, s16 <= 5.0 ? "would be met" : "NOT met either");
   }
+  // The designs' cost spread: how much more the busiest rank carries than the model's rounds · c.
+  std::map<int, int> designs;
+  for (const cluster::CostSample& k : costs) ++designs[k.design];
+  std::printf("bench cluster: the designs' cost spread (cluster/cost_spread.hpp), from %zu samples of %zu designs "
+              "(every iteration above): F = the busiest rank's collection over the model's rounds x c, mean of %d "
+              "simulated iterations\n",
+              costs.size(), designs.size(), o.spread_draws);
+  const cluster::CostSummary cs = cluster::summarize_costs(costs);
+  std::printf("  one environment's settle and step CPU per iteration: mean %.3f s; the designs' means %.3f to %.3f s "
+              "(standard deviation %.3f s across designs, %.3f s within a design)\n",
+              cs.mean, cs.least_design, cs.largest_design, cs.across_designs, cs.within_design);
+  std::printf("  ranks | F contiguous slices | F split by cost (built) | run, update on rank 0: with F contiguous, "
+              "with F by cost\n");
+  for (int r : {1, 2, 4, 8, 16, 32, 64}) {
+    if (r > psi) break;
+    const cluster::BusiestLoad f = cluster::busiest_load_factor(costs, static_cast<std::size_t>(psi), r,
+                                                                c.threads_per_rank, o.spread_draws, 20261204);
+    cluster::ScalingCosts contiguous = c, by_cost = c;
+    contiguous.collect_factor = f.contiguous;
+    by_cost.collect_factor = f.by_cost;
+    std::printf("  %5d | %19.3f | %23.3f | %8.1f min, %8.1f min\n", r, f.contiguous, f.by_cost,
+                iterations_total * cluster::iteration_seconds(contiguous, r) / 60.0,
+                iterations_total * cluster::iteration_seconds(by_cost, r) / 60.0);
+  }
   std::printf("  serial part per iteration (update + policy + distribution): %.3f s: with the update on rank 0 the "
               "model's floor is %.1f min\n",
               c.update_s + c.policy_s + c.distribution_s,
@@ -157,6 +223,8 @@ void add_bench_cluster_command(CLI::App& bench, Runner& run) {
   add_threads_option(*cmd, opt->threads, "rollout threads per rank (0: all cores)");
   cmd->add_option("--model-threads", opt->model_threads, "threads per rank in the model (default: this launch's)")
       ->check(CLI::Range(1, 1024));
+  cmd->add_flag("--contiguous", opt->contiguous,
+               "under mpirun: keep the contiguous slices of environments, not shared out by cost (to compare)");
   cmd->add_option("--exchanges", opt->exchanges, "rounds of the exchange timing (default 200)")->check(CLI::Range(1, 1000000));
   cmd->callback([opt, &run] { run = [opt] { return run_bench_cluster(*opt); }; });
 }

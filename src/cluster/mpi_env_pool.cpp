@@ -2,13 +2,18 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <thread>
 
 #include <mpi.h>
 
+#include "base/seconds_since.hpp"
 #include "cluster/rollout_messages.hpp"
+#include "fem/design.hpp"
 
 namespace codesign::cluster {
 
@@ -16,7 +21,7 @@ namespace {
 
 // Rank 0 -> rank r: a command header {command, flag}, then its payload (if any), all tag kCommand
 // or kPayload; rank r -> rank 0: the reply (kReply) and, after a step, the end reasons (kReasons).
-enum Command : int { kStop = 0, kStart = 1, kStep = 2, kTimes = 3, kPing = 4 };
+enum Command : int { kStop = 0, kStart = 1, kStep = 2, kTimes = 3, kPing = 4, kCosts = 5 };
 constexpr int kTagCommand = 101, kTagPayload = 102, kTagReply = 103, kTagReasons = 104;
 
 void check(int rc, const char* what) {
@@ -92,18 +97,13 @@ std::vector<double> columns(const Eigen::MatrixXd& m, EnvSlice s) {
   return v;
 }
 
-}  // namespace
-
-EnvSlice env_slice(std::size_t n_envs, int rank, int ranks) {
-  if (ranks < 1 || rank < 0 || rank >= ranks)
-    throw std::invalid_argument("env_slice: rank " + std::to_string(rank) + " of " + std::to_string(ranks));
-  const auto n = static_cast<std::size_t>(ranks), r = static_cast<std::size_t>(rank);
-  if (n_envs < n)
-    throw std::invalid_argument(std::to_string(ranks) + " MPI ranks for " + std::to_string(n_envs) +
-                                " environments (designs_per_update): every rank needs at least one");
-  const std::size_t base = n_envs / n, extra = n_envs % n;
-  return {r * base + std::min(r, extra), base + (r < extra ? 1 : 0)};
+bool is_identity(const std::vector<std::size_t>& order) {
+  for (std::size_t j = 0; j < order.size(); ++j)
+    if (order[j] != j) return false;
+  return true;
 }
+
+}  // namespace
 
 MpiEnvPool::MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n_envs, int ranks)
     : local_(std::move(local)), n_envs_(n_envs), ranks_(ranks) {
@@ -113,7 +113,13 @@ MpiEnvPool::MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n
                                 " environments");
   if (local_->threads() < 2) update_pool_ = std::make_unique<rl::ThreadPool>(2);
   result_ = rl::VecStepResult(spec().observation.dim(), n_envs);
+  placed_ = rl::VecStepResult(spec().observation.dim(), n_envs);
   last_in_band_.assign(n_envs, 0);
+  placed_in_band_.assign(n_envs, 0);
+  order_.resize(n_envs);
+  std::iota(order_.begin(), order_.end(), std::size_t{0});
+  design_of_.assign(n_envs, -1);
+  design_cost_.assign(fem::kDesignCount, std::numeric_limits<double>::quiet_NaN());
 }
 
 MpiEnvPool::~MpiEnvPool() {
@@ -123,51 +129,142 @@ MpiEnvPool::~MpiEnvPool() {
   }
 }
 
+std::vector<double> MpiEnvPool::work_by_place() const {
+  std::vector<double> work(n_envs_);
+  const std::vector<double> mine = local_->work_since_start();
+  std::copy(mine.begin(), mine.end(), work.begin());
+  for (int r = 1; r < ranks_; ++r) {
+    send_command(r, kCosts, 0);
+    const std::vector<double> v = recv_doubles(slices_[r].count, r, kTagReply);
+    std::copy(v.begin(), v.end(), work.begin() + static_cast<std::ptrdiff_t>(slices_[r].first));
+  }
+  return work;
+}
+
+std::vector<double> MpiEnvPool::work_since_start() const {
+  const std::vector<double> by_place = work_by_place();
+  std::vector<double> work(n_envs_);
+  for (std::size_t j = 0; j < n_envs_; ++j) work[order_[j]] = by_place[j];
+  return work;
+}
+
+double MpiEnvPool::imbalance_since_start() const {
+  const std::vector<double> work = work_by_place();
+  double busiest = 0.0, total = 0.0;
+  for (const EnvSlice& sl : slices_) {
+    const double w = std::accumulate(work.begin() + static_cast<std::ptrdiff_t>(sl.first),
+                                     work.begin() + static_cast<std::ptrdiff_t>(sl.first + sl.count), 0.0);
+    busiest = std::max(busiest, w);
+    total += w;
+  }
+  return total > 0.0 ? busiest * ranks_ / total : 1.0;
+}
+
+// What each design cost in the iteration that just ended (settle and step CPU seconds of its
+// environment; the mean where several environments had it).
+void MpiEnvPool::learn_costs() {
+  const std::vector<double> work = work_by_place();
+  std::vector<double> sum(design_cost_.size(), 0.0), count(design_cost_.size(), 0.0);
+  for (std::size_t j = 0; j < n_envs_; ++j) {
+    const int d = design_of_[order_[j]];
+    if (d < 0 || d >= static_cast<int>(design_cost_.size())) continue;
+    sum[static_cast<std::size_t>(d)] += work[j];
+    count[static_cast<std::size_t>(d)] += 1.0;
+  }
+  for (std::size_t d = 0; d < sum.size(); ++d)
+    if (count[d] > 0.0) design_cost_[d] = sum[d] / count[d];
+}
+
 Eigen::MatrixXd MpiEnvPool::start(const std::vector<core::EpisodeSetup>& setups) {
   if (setups.size() != n_envs_) throw std::invalid_argument("MpiEnvPool::start: one setup per environment");
+  if (starts_ > 0) learn_costs();
+  // Predicted cost of each environment: its design's last cost; designs not yet stepped, the mean
+  // of those known. Before any is known (the first start) the slices stay contiguous.
+  double known_sum = 0.0, known = 0.0;
+  for (double c : design_cost_)
+    if (std::isfinite(c)) known_sum += c, known += 1.0;
+  const double unknown = known > 0.0 ? known_sum / known : 1.0;
+  std::vector<double> predicted(n_envs_, unknown);
+  for (std::size_t i = 0; i < n_envs_; ++i) {
+    const int d = setups[i].design;
+    if (d >= 0 && d < static_cast<int>(design_cost_.size()) && std::isfinite(design_cost_[static_cast<std::size_t>(d)]))
+      predicted[i] = design_cost_[static_cast<std::size_t>(d)];
+  }
+  if (known > 0.0 && share_by_cost_) order_ = assign_by_cost(predicted, slices_, pinned_);
+  ++starts_;
+  if (!is_identity(order_)) ++reassigned_;
+  std::vector<core::EpisodeSetup> placed(n_envs_);
+  for (std::size_t j = 0; j < n_envs_; ++j) {
+    placed[j] = setups[order_[j]];
+    design_of_[order_[j]] = setups[order_[j]].design;
+  }
+
   for (int r = 1; r < ranks_; ++r) {
     send_command(r, kStart, 0);
-    send_doubles(pack_setups(setups, slices_[r].first, slices_[r].count), r, kTagPayload);
+    send_doubles(pack_setups(placed, slices_[r].first, slices_[r].count), r, kTagPayload);
   }
-  const std::vector<core::EpisodeSetup> mine(setups.begin(), setups.begin() + static_cast<std::ptrdiff_t>(slices_[0].count));
+  const std::vector<core::EpisodeSetup> mine(placed.begin(), placed.begin() + static_cast<std::ptrdiff_t>(slices_[0].count));
   const Eigen::Index d = static_cast<Eigen::Index>(spec().observation.dim());
   Eigen::MatrixXd obs(d, static_cast<Eigen::Index>(n_envs_));
-  obs.leftCols(static_cast<Eigen::Index>(slices_[0].count)) = local_->start(mine);
+  const Eigen::MatrixXd first = local_->start(mine);
+  for (std::size_t k = 0; k < slices_[0].count; ++k)
+    obs.col(static_cast<Eigen::Index>(order_[k])) = first.col(static_cast<Eigen::Index>(k));
+  const auto waiting = std::chrono::steady_clock::now();
   for (int r = 1; r < ranks_; ++r) {
     const EnvSlice s = slices_[r];
     const std::vector<double> v = recv_doubles(static_cast<std::size_t>(d) * s.count, r, kTagReply);
-    obs.middleCols(static_cast<Eigen::Index>(s.first), static_cast<Eigen::Index>(s.count)) =
-        Eigen::Map<const Eigen::MatrixXd>(v.data(), d, static_cast<Eigen::Index>(s.count));
+    const Eigen::Map<const Eigen::MatrixXd> got(v.data(), d, static_cast<Eigen::Index>(s.count));
+    for (std::size_t k = 0; k < s.count; ++k)
+      obs.col(static_cast<Eigen::Index>(order_[s.first + k])) = got.col(static_cast<Eigen::Index>(k));
   }
+  start_wait_s_ += seconds_since(waiting);
   return obs;
 }
 
 const rl::VecStepResult& MpiEnvPool::step(const Eigen::MatrixXd& actions, bool restart) {
   if (actions.cols() != static_cast<Eigen::Index>(n_envs_))
     throw std::invalid_argument("MpiEnvPool::step: one action column per environment");
+  placed_actions_.resize(actions.rows(), actions.cols());
+  for (std::size_t j = 0; j < n_envs_; ++j)
+    placed_actions_.col(static_cast<Eigen::Index>(j)) = actions.col(static_cast<Eigen::Index>(order_[j]));
   for (int r = 1; r < ranks_; ++r) {
     send_command(r, kStep, restart ? 1 : 0);
-    send_doubles(columns(actions, slices_[r]), r, kTagPayload);
+    send_doubles(columns(placed_actions_, slices_[r]), r, kTagPayload);
   }
-  // Rank 0's slice, while the other ranks step theirs.
+  // Rank 0's share, while the other ranks step theirs.
   const auto n0 = static_cast<Eigen::Index>(slices_[0].count);
-  const rl::VecStepResult& mine = local_->step(actions.leftCols(n0), restart);
-  result_.obs.leftCols(n0) = mine.obs;
-  result_.rewards.head(n0) = mine.rewards;
-  for (std::size_t i = 0; i < slices_[0].count; ++i) {
-    result_.terminated[i] = mine.terminated[i];
-    result_.truncated[i] = mine.truncated[i];
-    result_.terminal_obs[i] = mine.terminal_obs[i];
-    result_.reasons[i] = mine.reasons[i];
-    if (mine.done(i)) last_in_band_[i] = local_->last_in_band(i);
+  const rl::VecStepResult& mine = local_->step(placed_actions_.leftCols(n0), restart);
+  placed_.obs.leftCols(n0) = mine.obs;
+  placed_.rewards.head(n0) = mine.rewards;
+  for (std::size_t j = 0; j < slices_[0].count; ++j) {
+    placed_.terminated[j] = mine.terminated[j];
+    placed_.truncated[j] = mine.truncated[j];
+    placed_.terminal_obs[j] = mine.terminal_obs[j];
+    placed_.reasons[j] = mine.reasons[j];
+    if (mine.done(j)) placed_in_band_[j] = local_->last_in_band(j);
   }
   const std::size_t d = spec().observation.dim();
+  const auto waiting = std::chrono::steady_clock::now();
   for (int r = 1; r < ranks_; ++r) {
     const EnvSlice s = slices_[r];
     const std::vector<double> v = recv_doubles(s.count * (kStepFields + 2 * d), r, kTagReply);
     const std::vector<std::string> reasons = split_reasons(recv_string(r, kTagReasons), s.count);
-    unpack_step(v, d, s.first, result_, last_in_band_);
-    for (std::size_t k = 0; k < s.count; ++k) result_.reasons[s.first + k] = reasons[k];
+    unpack_step(v, d, s.first, placed_, placed_in_band_);
+    for (std::size_t k = 0; k < s.count; ++k) placed_.reasons[s.first + k] = reasons[k];
+  }
+  step_wait_s_ += seconds_since(waiting);
+  // Back to the environments' own order.
+  for (std::size_t j = 0; j < n_envs_; ++j) {
+    const std::size_t i = order_[j];
+    result_.obs.col(static_cast<Eigen::Index>(i)) = placed_.obs.col(static_cast<Eigen::Index>(j));
+    result_.rewards(static_cast<Eigen::Index>(i)) = placed_.rewards(static_cast<Eigen::Index>(j));
+    result_.terminated[i] = placed_.terminated[j];
+    result_.truncated[i] = placed_.truncated[j];
+    result_.terminal_obs[i] = std::move(placed_.terminal_obs[j]);
+    placed_.terminal_obs[j].reset();
+    result_.reasons[i] = std::move(placed_.reasons[j]);
+    placed_.reasons[j].clear();
+    if (placed_.done(j)) last_in_band_[i] = placed_in_band_[j];
   }
   return result_;
 }
@@ -192,7 +289,13 @@ void MpiEnvPool::set_step_observer(std::size_t i, StepObserver observer, int eve
   if (i >= slices_[0].count)
     throw std::invalid_argument("MpiEnvPool: environment " + std::to_string(i) +
                                 " is stepped on another rank; live telemetry follows rank 0's environments only");
-  local_->set_step_observer(i, std::move(observer), every);
+  // Place i on rank 0 steps environment i from the next start() on (pinned); set before the first
+  // start(), as the run does, it follows environment i throughout.
+  local_->set_step_observer(i, observer, every);
+  const bool on = observer && every > 0;
+  const auto at = std::find(pinned_.begin(), pinned_.end(), i);
+  if (on && at == pinned_.end()) pinned_.push_back(i);
+  if (!on && at != pinned_.end()) pinned_.erase(at);
 }
 
 double time_exchanges(int ranks, std::size_t out_doubles, std::size_t in_doubles, int repeats) {
@@ -239,6 +342,9 @@ void serve_env_pool(core::ThreadEnvPool& local) {
       }
       case kTimes:
         send_doubles({local.settle_seconds(), local.step_seconds()}, 0, kTagReply);
+        break;
+      case kCosts:
+        send_doubles(local.work_since_start(), 0, kTagReply);
         break;
       case kPing: {
         MPI_Status st;

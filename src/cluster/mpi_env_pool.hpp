@@ -1,39 +1,37 @@
 #pragma once
 // The rollout backend of Algorithm 1 across MPI ranks (issue 20 §1).
 //
-// The ψ environments of an iteration are split into contiguous slices, one per rank of
-// MPI_COMM_WORLD (env_slice). Rank 0 runs the co-design (it samples the designs, runs the PPO
-// update, writes the run folder) and steps its own slice; every other rank holds only its slice's
+// The ψ environments of an iteration are shared out over the ranks of MPI_COMM_WORLD: env_slice
+// fixes how many each rank steps, assign_by_cost (env_assignment.hpp) which ones, anew at every
+// start() from the cost each design had when last stepped, so that the ranks, which meet at every
+// decision, carry similar work. Rank 0 runs the co-design (it samples the designs, runs the PPO
+// update, writes the run folder) and steps its own share; every other rank holds only its share's
 // environments (a ThreadEnvPool of its own simulators) and serves rank 0's calls until told to stop
 // (serve_env_pool, which waits for rank 0 without polling a core). Each call of the EnvPool
 // interface is one exchange:
-//   start(setups):  rank 0 sends each rank its slice's setups; each answers its first observations.
-//   step(actions):  rank 0 sends each rank its slice's action columns, steps its own slice
-//                   meanwhile, then receives each slice's rewards, end flags, in-band counts,
+//   start(setups):  rank 0 asks each rank what its environments cost in the iteration just ended
+//                   (none before the first start), chooses the assignment, sends each rank its
+//                   share's setups; each answers its first observations.
+//   step(actions):  rank 0 sends each rank its share's action columns, steps its own share
+//                   meanwhile, then receives each share's rewards, end flags, in-band counts,
 //                   observations, terminal observations and end reasons.
-// Every environment owns its state and draws no random numbers (env_pool.hpp), and doubles cross
-// the wire bit for bit, so a run gives the same results on any number of ranks and threads per
-// rank. Live telemetry of training steps (set_step_observer) is kept for environments of rank 0's
-// slice (environment 0 is always there); an observer on another rank's environment is refused.
+// Every environment owns its state, draws no random numbers and starts each iteration afresh
+// (env_pool.hpp), and doubles cross the wire bit for bit, so a run gives the same results on any
+// number of ranks and threads per rank, whichever rank steps which environment. Live telemetry of
+// training steps (set_step_observer) is kept for environments of rank 0's slice (environment 0 is
+// always there); they stay on rank 0 at their own place. An observer on another place is refused.
 #include <array>
 #include <cstddef>
 #include <memory>
 #include <vector>
 
+#include "cluster/env_assignment.hpp"
 #include "codesign/env_pool.hpp"
 
 namespace codesign::cluster {
 
-// The environments [first, first + count) of `rank` among `ranks`: contiguous, sizes differing by
-// at most one, the larger slices first. Throws std::invalid_argument if ranks < 1, rank outside
-// [0, ranks), or n_envs < ranks (every rank steps at least one environment).
-struct EnvSlice {
-  std::size_t first = 0, count = 0;
-};
-EnvSlice env_slice(std::size_t n_envs, int rank, int ranks);
-
-// Rank 0's pool. `local` steps environments [0, env_slice(n_envs, 0, ranks).count); ranks
-// 1..ranks-1 must be in serve_env_pool with their slices. The destructor tells them to stop.
+// Rank 0's pool. `local` holds env_slice(n_envs, 0, ranks).count environments; ranks 1..ranks-1
+// must be in serve_env_pool with pools of their slices' sizes. The destructor tells them to stop.
 class MpiEnvPool final : public core::EnvPool {
  public:
   MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n_envs, int ranks);
@@ -49,14 +47,31 @@ class MpiEnvPool final : public core::EnvPool {
   double settle_seconds() const override;
   double step_seconds() const override;
   void set_step_observer(std::size_t i, StepObserver observer, int every) override;
+  std::vector<double> work_since_start() const override;  // one exchange with every rank
   // The PPO update's threads: rank 0's rollout threads, or two threads of its own when rank 0 steps
   // its slice on one. The other ranks sleep through the update (serve_env_pool waits without
   // polling), so on a machine shared by the ranks the update still gets the actor and the critic
   // side by side, as with `--threads 2` in one process. Results do not change (env_pool.hpp).
   rl::ThreadPool* thread_pool() override { return update_pool_ ? update_pool_.get() : local_->thread_pool(); }
+  int ranks() const { return ranks_; }
+  // Off: every start keeps the contiguous slices (env_slice), as before the costs were used; for
+  // the bench's comparison of the two. On by default.
+  void set_share_by_cost(bool on) { share_by_cost_ = on; }
+  // Starts so far, and of them those whose assignment was not the contiguous slices.
+  int starts() const { return starts_; }
+  int reassigned_starts() const { return reassigned_; }
+  // Since the last start(): the busiest rank's settle and step CPU seconds over the mean rank's
+  // (1: balanced). One exchange with every rank (for the bench).
+  double imbalance_since_start() const;
+  // Wall seconds rank 0 spent so far waiting for the other ranks' answers after its own share was
+  // done, in start() and in step(): its idle time at the decisions' meeting points (for the bench).
+  double start_wait_seconds() const { return start_wait_s_; }
+  double step_wait_seconds() const { return step_wait_s_; }
 
  private:
   std::array<double, 2> remote_seconds() const;
+  std::vector<double> work_by_place() const;  // every place's work_since_start(), asked of the ranks
+  void learn_costs();                         // from the iteration just ended, into design_cost_
 
   std::unique_ptr<core::ThreadEnvPool> local_;
   std::unique_ptr<rl::ThreadPool> update_pool_;  // null when local_ has two threads or more
@@ -65,6 +80,17 @@ class MpiEnvPool final : public core::EnvPool {
   std::vector<EnvSlice> slices_;
   rl::VecStepResult result_;
   std::vector<int> last_in_band_;
+  // Place j of the slices steps environment order_[j] (identity until the first start()).
+  std::vector<std::size_t> order_;
+  std::vector<std::size_t> pinned_;      // environments with a step observer (on rank 0, own place)
+  std::vector<int> design_of_;           // per environment, the design of the last start (-1: none)
+  std::vector<double> design_cost_;      // per design, CPU seconds in its last iteration (NaN: unknown)
+  rl::VecStepResult placed_;             // a step's results in place order, before they are put back
+  std::vector<int> placed_in_band_;
+  Eigen::MatrixXd placed_actions_;
+  bool share_by_cost_ = true;
+  int starts_ = 0, reassigned_ = 0;
+  double start_wait_s_ = 0.0, step_wait_s_ = 0.0;
 };
 
 // On rank 0, while ranks 1..ranks-1 are in serve_env_pool: the mean wall time of one exchange of a

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "cluster/mpi_env_pool.hpp"
+#include "cluster/env_assignment.hpp"
 
 namespace codesign::cluster {
 
@@ -17,10 +17,10 @@ std::size_t collection_rounds(std::size_t environments, int ranks, int threads) 
 double iteration_seconds(const ScalingCosts& c, int ranks) {
   if (c.threads_per_rank < 1) throw std::invalid_argument("iteration_seconds: threads_per_rank < 1");
   if (c.env_collect_s < 0 || c.exchange_s < 0 || c.update_s < 0 || c.policy_s < 0 || c.distribution_s < 0 ||
-      c.exchanges < 0)
+      c.exchanges < 0 || !(c.collect_factor >= 0.0))
     throw std::invalid_argument("iteration_seconds: a negative cost");
   const double rounds = static_cast<double>(collection_rounds(c.environments, ranks, c.threads_per_rank));
-  const double collect = rounds * c.env_collect_s + (ranks - 1) * c.exchanges * c.exchange_s;
+  const double collect = c.collect_factor * rounds * c.env_collect_s + (ranks - 1) * c.exchanges * c.exchange_s;
   const double update = c.update_spread ? c.update_s / ranks : c.update_s;
   return collect + update + c.policy_s + c.distribution_s;
 }

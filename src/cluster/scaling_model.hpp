@@ -3,7 +3,7 @@
 // measured on one machine (`codesign bench cluster`, docs/cluster.md).
 //
 // One iteration on N ranks of t threads each:
-//   collection  ⌈⌈ψ/N⌉ / t⌉ · c  +  (N − 1) · s · x
+//   collection  F · ⌈⌈ψ/N⌉ / t⌉ · c  +  (N − 1) · s · x
 //   serial      u + p + d
 // with ψ environments split as cluster::env_slice does (the busiest rank holds ⌈ψ/N⌉, stepped on
 // its t threads in rounds of t environments of equal cost), c the collection wall of one
@@ -12,6 +12,8 @@
 // exchanges per iteration (one per decision and one start), x the cost of one exchange between
 // rank 0 and one other rank (rank 0 talks to the ranks one after the other), and the parts that
 // run on rank 0 alone: u the PPO update, p the policy inference, d the distribution update.
+// F (collect_factor, 1 by default) is how much more the busiest rank carries because the designs
+// differ in cost (cost_spread.hpp estimates it from measured costs for a given N).
 // Amdahl's law with a message term: the serial part bounds the speed-up at (⌈ψ/t⌉·c + u + p + d) /
 // (c + u + p + d) however many ranks there are.
 // With update_spread the update's u becomes u / N: a data-parallel update (each rank computes the
@@ -31,6 +33,7 @@ struct ScalingCosts {
   double policy_s = 0.0;             // p
   double distribution_s = 0.0;       // d
   bool update_spread = false;        // u / N instead of u (see above)
+  double collect_factor = 1.0;       // F (see above)
 };
 
 // ⌈⌈environments/ranks⌉ / threads⌉: the rounds of one environment each that the busiest rank's

@@ -23,6 +23,7 @@ ThreadEnvPool::ThreadEnvPool(std::shared_ptr<SimulatorPool> sims, const TaskConf
   step_cost_.assign(n_envs, 0.0);
   start_cost_.assign(fem::kDesignCount, std::numeric_limits<double>::infinity());
   order_.resize(n_envs);
+  work_mark_.assign(n_envs, 0.0);
 }
 
 void ThreadEnvPool::order_by_cost(const std::vector<double>& cost) {
@@ -46,6 +47,7 @@ Eigen::MatrixXd ThreadEnvPool::start(const std::vector<EpisodeSetup>& setups) {
     predicted[i] = d >= 0 && d < fem::kDesignCount ? start_cost_[static_cast<std::size_t>(d)] : 0.0;
   }
   order_by_cost(predicted);
+  for (std::size_t i = 0; i < envs_.size(); ++i) work_mark_[i] = envs_[i]->settle_seconds() + envs_[i]->step_seconds();
   std::vector<double> took(envs_.size());  // this start's cost per environment
   pool_.parallel_for_ordered(order_, [&](std::size_t i) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -86,6 +88,13 @@ const rl::VecStepResult& ThreadEnvPool::step(const Eigen::MatrixXd& actions, boo
     step_cost_[i] = seconds_since(t0);
   });
   return result_;
+}
+
+std::vector<double> ThreadEnvPool::work_since_start() const {
+  std::vector<double> w(envs_.size());
+  for (std::size_t i = 0; i < envs_.size(); ++i)
+    w[i] = envs_[i]->settle_seconds() + envs_[i]->step_seconds() - work_mark_[i];
+  return w;
 }
 
 double ThreadEnvPool::settle_seconds() const {

@@ -46,6 +46,10 @@ class EnvPool {
   // do not change. An empty function or every <= 0: off.
   using StepObserver = std::function<void(const EpisodeSetup&, const TraceRow&)>;
   virtual void set_step_observer(std::size_t i, StepObserver observer, int every) = 0;
+  // Per environment, the thread CPU seconds of its settles and steps since the last start() began
+  // (that start's settle included): what its design cost in this iteration, for balancing the
+  // environments over MPI ranks (cluster::assign_by_cost) and the bench's model.
+  virtual std::vector<double> work_since_start() const = 0;
   // The threads that step the environments, idle between rollouts: the PPO update borrows them
   // for the actor's and the critic's passes side by side (results do not change). Null: none.
   virtual rl::ThreadPool* thread_pool() { return nullptr; }
@@ -67,6 +71,7 @@ class ThreadEnvPool final : public EnvPool {
   void set_step_observer(std::size_t i, StepObserver observer, int every) override;
   std::size_t threads() const { return pool_.size(); }
   rl::ThreadPool* thread_pool() override { return &pool_; }
+  std::vector<double> work_since_start() const override;
 
  private:
   std::vector<std::unique_ptr<WhiskerEnv>> envs_;
@@ -84,6 +89,7 @@ class ThreadEnvPool final : public EnvPool {
   // are claimed first so the threads finish a step together. Only the order of work changes.
   std::vector<double> step_cost_;          // per environment
   std::vector<double> start_cost_;         // per design (+inf: never started here yet)
+  std::vector<double> work_mark_;          // per environment: settle + step seconds at the last start()
   std::vector<std::size_t> order_;
   void order_by_cost(const std::vector<double>& cost);
 };

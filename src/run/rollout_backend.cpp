@@ -37,6 +37,14 @@ std::unique_ptr<core::EnvPool> make_rollout_pool(std::shared_ptr<core::Simulator
   return std::make_unique<cluster::MpiEnvPool>(std::move(local), n, ranks);
 }
 
+std::string rollout_sharing_note(core::EnvPool& pool) {
+  const auto* mpi = dynamic_cast<const cluster::MpiEnvPool*>(&pool);
+  if (!mpi) return {};
+  return "rollouts on " + std::to_string(mpi->ranks()) + " MPI ranks: environments shared out by cost at " +
+         std::to_string(mpi->reassigned_starts()) + " of " + std::to_string(mpi->starts()) +
+         " iterations' starts (contiguous slices at the others: the first, and any where the costs gave that split)";
+}
+
 void serve_rollouts(const RunSettings& s, std::size_t threads, int rank, int ranks) {
   std::signal(SIGINT, SIG_IGN);
   std::signal(SIGTERM, SIG_IGN);

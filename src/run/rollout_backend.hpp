@@ -4,6 +4,7 @@
 // (cluster::MpiEnvPool, docs/cluster.md). Results are the same either way.
 #include <cstddef>
 #include <memory>
+#include <string>
 
 #include "codesign/env_pool.hpp"
 #include "codesign/simulator_pool.hpp"
@@ -19,6 +20,11 @@ void check_rollout_ranks(const core::LoopConfig& lc, int ranks);
 // ranks 1..ranks-1, which must be in serve_rollouts. InputError if ranks exceed the environments.
 std::unique_ptr<core::EnvPool> make_rollout_pool(std::shared_ptr<core::SimulatorPool> sims, const core::LoopConfig& lc,
                                                  std::size_t threads, int ranks);
+
+// One line on how the pool shared its environments out, for the run's summary: under MPI, at how
+// many of its starts the environments went to the ranks by cost rather than in contiguous slices
+// (cluster::assign_by_cost); empty for the threads of one process.
+std::string rollout_sharing_note(core::EnvPool& pool);
 
 // The start of every command that runs Algorithm 1 under an MPI launcher (docs/cluster.md): checks
 // the launch's rank count against the run's environments (check_rollout_ranks: InputError, on

@@ -588,6 +588,8 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
     }
   }
   if (tty) std::printf("\n");
+  if (const std::string note = rollout_sharing_note(loop.envs()); !note.empty())
+    std::printf("codesign: %s\n", note.c_str());
   if (last_ckpt != loop.timesteps()) checkpoint();
   // A signal now (or during the evaluation, checked after each design) stops before result.toml:
   // training is complete and checkpointed, so --resume only runs the evaluation again.

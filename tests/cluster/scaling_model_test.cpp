@@ -57,6 +57,15 @@ TEST(ScalingModel, ASpreadUpdateDividesOnlyTheUpdateByTheRanks) {
   EXPECT_NEAR(iteration_seconds(c, 16), 2 * 0.25 + 15 * 51 * 1e-5 + 0.3 / 16 + 0.05 + 0.001, 1e-12);
 }
 
+TEST(ScalingModel, TheBusiestRanksFactorScalesOnlyTheCollectionRounds) {
+  ScalingCosts c = paper_like();
+  c.collect_factor = 1.5;
+  // 16 ranks: 1.5 · 2 rounds of 0.25 s; messages, update, policy and distribution unchanged.
+  EXPECT_NEAR(iteration_seconds(c, 16), 1.5 * 2 * 0.25 + 15 * 51 * 1e-5 + 0.3 + 0.05 + 0.001, 1e-12);
+  c.collect_factor = -0.1;
+  EXPECT_THROW(iteration_seconds(c, 2), std::invalid_argument);
+}
+
 TEST(ScalingModel, NeverFasterThanItsSerialPartAndRefusesBadInput) {
   const ScalingCosts c = paper_like();
   for (int n = 1; n <= 40; ++n) {

@@ -1,0 +1,119 @@
+#include "cluster/cost_spread.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+
+#include "cluster/env_assignment.hpp"
+#include "cluster/scaling_model.hpp"
+
+namespace codesign::cluster {
+
+namespace {
+
+// The makespan of `costs` over `threads` threads that take the costliest first, each to the thread
+// free soonest.
+double makespan(std::vector<double> costs, int threads) {
+  std::sort(costs.begin(), costs.end(), std::greater<>());
+  std::vector<double> load(static_cast<std::size_t>(threads), 0.0);
+  for (double c : costs) *std::min_element(load.begin(), load.end()) += c;
+  return *std::max_element(load.begin(), load.end());
+}
+
+double busiest(const std::vector<double>& actual, const std::vector<std::size_t>& order,
+               const std::vector<EnvSlice>& slices, int threads) {
+  double worst = 0.0;
+  for (const EnvSlice& s : slices) {
+    std::vector<double> mine;
+    for (std::size_t j = s.first; j < s.first + s.count; ++j) mine.push_back(actual[order[j]]);
+    worst = std::max(worst, makespan(mine, threads));
+  }
+  return worst;
+}
+
+}  // namespace
+
+CostSummary summarize_costs(const std::vector<CostSample>& samples) {
+  if (samples.empty()) throw std::invalid_argument("summarize_costs: no cost samples");
+  std::map<int, std::pair<double, double>> by_design;  // sum, count
+  double total = 0.0;
+  for (const CostSample& c : samples) {
+    auto& [sum, n] = by_design[c.design];
+    sum += c.seconds;
+    n += 1.0;
+    total += c.seconds;
+  }
+  CostSummary out;
+  out.designs = by_design.size();
+  out.mean = total / static_cast<double>(samples.size());
+  out.least_design = std::numeric_limits<double>::infinity();
+  out.largest_design = -std::numeric_limits<double>::infinity();
+  double mean_of_means = 0.0;
+  for (const auto& [d, sn] : by_design) {
+    const double m = sn.first / sn.second;
+    mean_of_means += m;
+    out.least_design = std::min(out.least_design, m);
+    out.largest_design = std::max(out.largest_design, m);
+  }
+  mean_of_means /= static_cast<double>(out.designs);
+  double across = 0.0, within = 0.0;
+  for (const auto& [d, sn] : by_design) across += (sn.first / sn.second - mean_of_means) * (sn.first / sn.second - mean_of_means);
+  for (const CostSample& c : samples) {
+    const auto& sn = by_design[c.design];
+    within += (c.seconds - sn.first / sn.second) * (c.seconds - sn.first / sn.second);
+  }
+  out.across_designs = std::sqrt(across / static_cast<double>(out.designs));
+  out.within_design = std::sqrt(within / static_cast<double>(samples.size()));
+  return out;
+}
+
+BusiestLoad busiest_load_factor(const std::vector<CostSample>& samples, std::size_t environments, int ranks,
+                                int threads, int draws, std::uint64_t seed) {
+  if (samples.empty()) throw std::invalid_argument("busiest_load_factor: no cost samples");
+  if (draws < 1) throw std::invalid_argument("busiest_load_factor: draws < 1");
+  double total = 0.0;
+  std::map<int, std::vector<std::size_t>> of_design;
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    if (!std::isfinite(samples[k].seconds) || samples[k].seconds < 0.0)
+      throw std::invalid_argument("busiest_load_factor: a cost is negative or not finite");
+    total += samples[k].seconds;
+    of_design[samples[k].design].push_back(k);
+  }
+  const double mean = total / static_cast<double>(samples.size());
+  const double rounds = static_cast<double>(collection_rounds(environments, ranks, threads));
+  std::vector<EnvSlice> slices;
+  for (int r = 0; r < ranks; ++r) slices.push_back(env_slice(environments, r, ranks));
+  std::vector<std::size_t> identity(environments);
+  std::iota(identity.begin(), identity.end(), std::size_t{0});
+
+  std::mt19937_64 rng(seed);
+  auto pick = [&rng](std::size_t n) { return static_cast<std::size_t>(rng() % n); };
+  std::vector<double> actual(environments), predicted(environments);
+  double sum_contiguous = 0.0, sum_by_cost = 0.0;
+  for (int k = 0; k < draws; ++k) {
+    for (std::size_t i = 0; i < environments; ++i) {
+      const std::size_t s = pick(samples.size());
+      actual[i] = samples[s].seconds;
+      const std::vector<std::size_t>& same = of_design.at(samples[s].design);
+      if (same.size() < 2) {
+        predicted[i] = mean;
+      } else {  // another sample of the design
+        std::size_t o = same[pick(same.size() - 1)];
+        if (o == s) o = same.back();
+        predicted[i] = samples[o].seconds;
+      }
+    }
+    sum_contiguous += busiest(actual, identity, slices, threads);
+    sum_by_cost += busiest(actual, assign_by_cost(predicted, slices, {}), slices, threads);
+  }
+  const double norm = static_cast<double>(draws) * rounds * mean;
+  if (norm <= 0.0) return {};
+  return {sum_contiguous / norm, sum_by_cost / norm};
+}
+
+}  // namespace codesign::cluster

@@ -1,0 +1,49 @@
+#pragma once
+// How much the designs' different costs load the busiest rank (docs/cluster.md "Measured").
+//
+// The scaling model (scaling_model.hpp) puts ⌈ψ/N⌉ environments of the same cost c on the busiest
+// rank. The 110 designs do not cost the same: in `bench cluster` on the paper's config the mean
+// collection of a design over an iteration ranged 0.12–0.48 s. With few environments per rank the
+// rank that draws the expensive designs sets every decision's pace. busiest_load_factor estimates
+// by simulation, from measured (design, cost) samples, the factor F by which this raises the
+// collection term, for the contiguous slices (env_slice) and for the split by predicted cost
+// (assign_by_cost, the split the MPI backend uses).
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace codesign::cluster {
+
+// One environment's settle and step CPU seconds over one iteration, with its design.
+struct CostSample {
+  int design = 0;
+  double seconds = 0.0;
+};
+
+// Of a set of samples: the mean cost; over the designs with a sample, the least and the largest
+// mean and the (population) standard deviation of their means; and the pooled standard deviation
+// within a design (the root mean square of every sample's distance from its design's mean).
+struct CostSummary {
+  std::size_t designs = 0;
+  double mean = 0.0, least_design = 0.0, largest_design = 0.0, across_designs = 0.0, within_design = 0.0;
+};
+// std::invalid_argument for no samples.
+CostSummary summarize_costs(const std::vector<CostSample>& samples);
+
+struct BusiestLoad {
+  double contiguous = 1.0;  // F with the contiguous slices
+  double by_cost = 1.0;     // F with assign_by_cost
+};
+
+// F = E[busiest rank's collection] / (collection_rounds(environments, ranks, threads) · mean cost),
+// over `draws` iterations of `environments` samples drawn at random (with replacement) from
+// `samples`. A rank's collection is the longest-first split of its environments over its threads
+// (their makespan). assign_by_cost predicts an environment's cost by another sample of its design
+// drawn at random (the design's cost in an earlier iteration, as the backend does), or by the mean
+// of all samples when its design has only one. All costs equal gives F = 1 for either split.
+// std::invalid_argument for no samples, a negative or non-finite cost, draws < 1, or what
+// env_slice and collection_rounds refuse.
+BusiestLoad busiest_load_factor(const std::vector<CostSample>& samples, std::size_t environments, int ranks,
+                                int threads, int draws, std::uint64_t seed);
+
+}  // namespace codesign::cluster

@@ -1,0 +1,37 @@
+#pragma once
+// How the ψ environments of an iteration are shared out over MPI ranks (mpi_env_pool.hpp).
+//
+// How many: env_slice, fixed for a run (each rank's ThreadEnvPool holds that many environments).
+// Which: assign_by_cost, chosen anew at every start(), when every environment begins a new episode
+// with a new design and so can move to any rank without changing a result (env_pool.hpp: an
+// environment owns its state, draws no random numbers, and a simulator's reset() leaves no trace
+// of earlier episodes). The ranks meet at every decision, so a rank whose environments are slower
+// holds the others up; giving each rank a similar predicted cost is what --threads does within one
+// process by handing out environments one at a time.
+#include <cstddef>
+#include <vector>
+
+namespace codesign::cluster {
+
+// The environments [first, first + count) of `rank` among `ranks`: contiguous, sizes differing by
+// at most one, the larger slices first. Throws std::invalid_argument if ranks < 1, rank outside
+// [0, ranks), or n_envs < ranks (every rank steps at least one environment).
+struct EnvSlice {
+  std::size_t first = 0, count = 0;
+};
+EnvSlice env_slice(std::size_t n_envs, int rank, int ranks);
+
+// A permutation `order` of the environments 0 .. cost.size()-1: place j of the slices (rank r has
+// places [slices[r].first, + count)) steps environment order[j]. Pinned environments (each below
+// slices[0].count) stay on rank 0 at their own place (order[i] == i): live telemetry follows them
+// there. The others go, costliest first (ties: lower index first), to the rank with the least
+// predicted cost so far among those with a free place (ties: lower rank) — the greedy
+// longest-processing-time rule with the slices' sizes as capacities; so no rank's total exceeds
+// another's by more than the largest single cost, unless pins force it. Within a rank the
+// environments keep ascending order around the pins. Throws std::invalid_argument if the slices
+// do not cover cost.size() places contiguously from 0, a cost is negative or not finite, or a pin
+// is out of range or repeated.
+std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const std::vector<EnvSlice>& slices,
+                                        const std::vector<std::size_t>& pinned);
+
+}  // namespace codesign::cluster

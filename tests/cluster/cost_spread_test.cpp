@@ -1,0 +1,71 @@
+// How much the designs' different costs load the busiest rank (cluster/cost_spread.hpp): 1 when
+// every cost is the same, a hand-enumerated case for both splits, and bad input refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "cluster/cost_spread.hpp"
+
+namespace {
+
+using codesign::cluster::busiest_load_factor;
+using codesign::cluster::BusiestLoad;
+using codesign::cluster::CostSample;
+
+TEST(CostSpread, EqualCostsGiveFactorOne) {
+  const std::vector<CostSample> same = {{3, 0.2}, {7, 0.2}, {7, 0.2}, {40, 0.2}};
+  for (int ranks : {1, 2, 3, 16})
+    for (int threads : {1, 2, 3}) {
+      const BusiestLoad f = busiest_load_factor(same, 40, ranks, threads, 50, 1);
+      EXPECT_NEAR(f.contiguous, 1.0, 1e-12) << ranks << " ranks, " << threads << " threads";
+      EXPECT_NEAR(f.by_cost, 1.0, 1e-12) << ranks << " ranks, " << threads << " threads";
+    }
+}
+
+// Two designs, costs 1 and 3, equally likely; 4 environments on 2 ranks of one thread; each
+// design's samples agree, so the split by cost predicts exactly. The normaliser is 2 rounds · mean
+// cost 2 = 4.
+// Contiguous: each rank's sum of two draws is 2, 4 or 6 with probabilities 1/4, 1/2, 1/4;
+// P(max ≤ 2) = 1/16, P(max ≤ 4) = 9/16, so E[max] = 2/16 + 4 · 8/16 + 6 · 7/16 = 4.75: F = 1.1875.
+// By cost, with k draws of 3 (binomial, 1 4 6 4 1 over 16): the busiest rank carries 2, 4, 4, 6, 6
+// (k = 1: 3 + 1 against 1 + 1; k = 3: 3 + 3 against 3 + 1), E = 72/16 = 4.5: F = 1.125.
+// Monte Carlo tolerance: a rank's maximum lies in [2, 6], so its standard deviation is at most 2,
+// and over 40 000 draws 4 standard errors of the mean are 4 · 2 / 200 = 0.04 s, 0.01 in F.
+TEST(CostSpread, TwoDesignsOnTwoRanksMatchTheEnumeration) {
+  const std::vector<CostSample> two = {{0, 1.0}, {0, 1.0}, {1, 3.0}, {1, 3.0}};
+  const BusiestLoad f = busiest_load_factor(two, 4, 2, 1, 40000, 20261204);
+  EXPECT_NEAR(f.contiguous, 1.1875, 0.01);
+  EXPECT_NEAR(f.by_cost, 1.125, 0.01);
+  // One rank: nothing to split; two threads take 3s first, so the makespan is the enumerated
+  // E[max over two longest-first bins] — here only the bound F ≥ 1 and F equal for both splits.
+  const BusiestLoad one = busiest_load_factor(two, 4, 1, 2, 2000, 5);
+  EXPECT_GE(one.contiguous, 1.0 - 1e-12);
+  EXPECT_DOUBLE_EQ(one.contiguous, one.by_cost);
+}
+
+// Design 1: 1 and 3 (mean 2); design 2: 4 (mean 4). Overall mean 8/3; the designs' means 2 and 4
+// (population standard deviation 1); within a design: distances 1, 1, 0, root mean square √(2/3).
+TEST(CostSpread, SummaryByHand) {
+  const codesign::cluster::CostSummary s = codesign::cluster::summarize_costs({{1, 1.0}, {2, 4.0}, {1, 3.0}});
+  EXPECT_EQ(s.designs, 2u);
+  EXPECT_NEAR(s.mean, 8.0 / 3.0, 1e-12);
+  EXPECT_NEAR(s.least_design, 2.0, 1e-12);
+  EXPECT_NEAR(s.largest_design, 4.0, 1e-12);
+  EXPECT_NEAR(s.across_designs, 1.0, 1e-12);
+  EXPECT_NEAR(s.within_design, std::sqrt(2.0 / 3.0), 1e-12);
+  EXPECT_THROW(codesign::cluster::summarize_costs({}), std::invalid_argument);
+}
+
+TEST(CostSpread, BadInputIsRefused) {
+  const std::vector<CostSample> ok = {{0, 1.0}};
+  EXPECT_THROW(busiest_load_factor({}, 4, 2, 1, 10, 1), std::invalid_argument);
+  EXPECT_THROW(busiest_load_factor({{0, -1.0}}, 4, 2, 1, 10, 1), std::invalid_argument);
+  EXPECT_THROW(busiest_load_factor({{0, std::nan("")}}, 4, 2, 1, 10, 1), std::invalid_argument);
+  EXPECT_THROW(busiest_load_factor(ok, 4, 2, 1, 0, 1), std::invalid_argument);
+  EXPECT_THROW(busiest_load_factor(ok, 4, 5, 1, 10, 1), std::invalid_argument);  // more ranks than environments
+  EXPECT_THROW(busiest_load_factor(ok, 4, 2, 0, 10, 1), std::invalid_argument);  // no thread
+}
+
+}  // namespace
