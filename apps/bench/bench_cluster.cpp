@@ -69,9 +69,11 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   // Each environment's settle and step CPU over each iteration, with its design: for the designs'
   // cost spread in the model (cluster/cost_spread.hpp). Read between iterations, outside the timing.
   std::vector<cluster::CostSample> costs;
+  // Returns the iteration's per-environment costs (under MPI: one exchange with every rank).
   auto keep_costs = [&](const core::IterationReport& r) {
     const std::vector<double> w = pool->work_since_start();
     for (std::size_t i = 0; i < w.size() && i < r.samples.size(); ++i) costs.push_back({r.samples[i].design, w[i]});
+    return w;
   };
   for (int k = 0; k < o.warmup; ++k) keep_costs(loop.iterate());  // meshes the sampled designs, builds simulators
   const int built0 = sims->constructed();
@@ -106,8 +108,8 @@ int run_bench_cluster(const BenchClusterOptions& o) {
     }
     // Not part of a run (under MPI an exchange with every rank): left out of the wall time.
     const auto q0 = std::chrono::steady_clock::now();
-    keep_costs(r);
-    if (mpi_pool) imbalance += mpi_pool->imbalance_since_start();
+    const std::vector<double> work = keep_costs(r);
+    if (mpi_pool) imbalance += mpi_pool->imbalance(work);
     imbalance_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - q0).count();
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() - imbalance_s;

@@ -97,12 +97,6 @@ std::vector<double> columns(const Eigen::MatrixXd& m, EnvSlice s) {
   return v;
 }
 
-bool is_identity(const std::vector<std::size_t>& order) {
-  for (std::size_t j = 0; j < order.size(); ++j)
-    if (order[j] != j) return false;
-  return true;
-}
-
 }  // namespace
 
 MpiEnvPool::MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n_envs, int ranks)
@@ -129,31 +123,24 @@ MpiEnvPool::~MpiEnvPool() {
   }
 }
 
-std::vector<double> MpiEnvPool::work_by_place() const {
+std::vector<double> MpiEnvPool::work_since_start() const {
   std::vector<double> work(n_envs_);
   const std::vector<double> mine = local_->work_since_start();
-  std::copy(mine.begin(), mine.end(), work.begin());
+  for (std::size_t k = 0; k < mine.size(); ++k) work[order_[k]] = mine[k];
   for (int r = 1; r < ranks_; ++r) {
     send_command(r, kCosts, 0);
     const std::vector<double> v = recv_doubles(slices_[r].count, r, kTagReply);
-    std::copy(v.begin(), v.end(), work.begin() + static_cast<std::ptrdiff_t>(slices_[r].first));
+    for (std::size_t k = 0; k < v.size(); ++k) work[order_[slices_[r].first + k]] = v[k];
   }
   return work;
 }
 
-std::vector<double> MpiEnvPool::work_since_start() const {
-  const std::vector<double> by_place = work_by_place();
-  std::vector<double> work(n_envs_);
-  for (std::size_t j = 0; j < n_envs_; ++j) work[order_[j]] = by_place[j];
-  return work;
-}
-
-double MpiEnvPool::imbalance_since_start() const {
-  const std::vector<double> work = work_by_place();
+double MpiEnvPool::imbalance(const std::vector<double>& work) const {
+  if (work.size() != n_envs_) throw std::invalid_argument("MpiEnvPool::imbalance: one figure per environment");
   double busiest = 0.0, total = 0.0;
   for (const EnvSlice& sl : slices_) {
-    const double w = std::accumulate(work.begin() + static_cast<std::ptrdiff_t>(sl.first),
-                                     work.begin() + static_cast<std::ptrdiff_t>(sl.first + sl.count), 0.0);
+    double w = 0.0;
+    for (std::size_t j = sl.first; j < sl.first + sl.count; ++j) w += work[order_[j]];
     busiest = std::max(busiest, w);
     total += w;
   }
@@ -163,12 +150,12 @@ double MpiEnvPool::imbalance_since_start() const {
 // What each design cost in the iteration that just ended (settle and step CPU seconds of its
 // environment; the mean where several environments had it).
 void MpiEnvPool::learn_costs() {
-  const std::vector<double> work = work_by_place();
+  const std::vector<double> work = work_since_start();
   std::vector<double> sum(design_cost_.size(), 0.0), count(design_cost_.size(), 0.0);
-  for (std::size_t j = 0; j < n_envs_; ++j) {
-    const int d = design_of_[order_[j]];
+  for (std::size_t i = 0; i < n_envs_; ++i) {
+    const int d = design_of_[i];
     if (d < 0 || d >= static_cast<int>(design_cost_.size())) continue;
-    sum[static_cast<std::size_t>(d)] += work[j];
+    sum[static_cast<std::size_t>(d)] += work[i];
     count[static_cast<std::size_t>(d)] += 1.0;
   }
   for (std::size_t d = 0; d < sum.size(); ++d)
@@ -192,7 +179,7 @@ Eigen::MatrixXd MpiEnvPool::start(const std::vector<core::EpisodeSetup>& setups)
   }
   if (known > 0.0 && share_by_cost_) order_ = assign_by_cost(predicted, slices_, pinned_);
   ++starts_;
-  if (!is_identity(order_)) ++reassigned_;
+  if (!std::is_sorted(order_.begin(), order_.end())) ++reassigned_;  // a sorted permutation is the identity
   std::vector<core::EpisodeSetup> placed(n_envs_);
   for (std::size_t j = 0; j < n_envs_; ++j) {
     placed[j] = setups[order_[j]];

@@ -60,9 +60,9 @@ class MpiEnvPool final : public core::EnvPool {
   // Starts so far, and of them those whose assignment was not the contiguous slices.
   int starts() const { return starts_; }
   int reassigned_starts() const { return reassigned_; }
-  // Since the last start(): the busiest rank's settle and step CPU seconds over the mean rank's
-  // (1: balanced). One exchange with every rank (for the bench).
-  double imbalance_since_start() const;
+  // Of `work` (per environment, as work_since_start() gives it): the busiest rank's total over the
+  // mean rank's under the current assignment (1: balanced; for the bench).
+  double imbalance(const std::vector<double>& work) const;
   // Wall seconds rank 0 spent so far waiting for the other ranks' answers after its own share was
   // done, in start() and in step(): its idle time at the decisions' meeting points (for the bench).
   double start_wait_seconds() const { return start_wait_s_; }
@@ -70,8 +70,7 @@ class MpiEnvPool final : public core::EnvPool {
 
  private:
   std::array<double, 2> remote_seconds() const;
-  std::vector<double> work_by_place() const;  // every place's work_since_start(), asked of the ranks
-  void learn_costs();                         // from the iteration just ended, into design_cost_
+  void learn_costs();  // from the iteration just ended, into design_cost_
 
   std::unique_ptr<core::ThreadEnvPool> local_;
   std::unique_ptr<rl::ThreadPool> update_pool_;  // null when local_ has two threads or more
