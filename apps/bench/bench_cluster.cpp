@@ -14,7 +14,9 @@
 // time for 1 … ψ ranks of --model-threads threads, with the update on rank 0 (as built) and
 // spread over the ranks (a bound: not built, messages free), beside the measured figure of this
 // launch, and the goal (the paper run in ≤ 5 min on 16 ranks). Without MPI the exchange
-// cost is not measured and the model's message term is 0 (said so).
+// cost is not measured and the model's message term is 0 (said so). A launch with more threads
+// than cores on rank 0's machine (ranks there × --threads) is measured as any other, and the
+// bench says that its c is a share of a core, which the model cannot use.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -53,6 +55,7 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   const run::RunConfig setup = run::read_run_config(o.config);
   const run::RunSettings s = run::run_settings(setup);
   const core::LoopConfig& lc = s.loop;
+  const int ranks_here = cluster::ranks_on_this_machine();  // collective: before the ranks part
   if (run::serve_unless_rank_zero(s, static_cast<std::size_t>(o.threads))) return 0;
   const int ranks = cluster::world_size();
   auto sims = std::make_shared<core::SimulatorPool>(s.spec, s.scene, s.solver);
@@ -66,6 +69,15 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   const int psi = lc.codesign.designs_per_update, n_steps = lc.ppo.n_steps;
   std::printf("bench cluster: %s: psi = %d environments x %d decisions; %d rank(s) x %zu thread(s)\n", o.config.c_str(),
               psi, n_steps, ranks, threads);
+  // The model reads c as the collection of a thread with a core of its own; with more threads
+  // than cores on rank 0's machine the ranks share cores, and c is a share of one.
+  const unsigned cores = std::thread::hardware_concurrency();
+  const bool oversubscribed = cores > 0 && static_cast<std::size_t>(ranks_here) * threads > cores;
+  if (oversubscribed)
+    std::printf("  this launch runs %d rank(s) x %zu thread(s) on the %u cores of rank 0's machine: the ranks share "
+                "cores, so the model's c below is not one core's collection and its projection is not meaningful; "
+                "feed the model from a launch with ranks x threads <= cores\n",
+                ranks_here, threads, cores);
   // Each environment's settle and step CPU over each iteration, with its design: for the designs'
   // cost spread in the model (cluster/cost_spread.hpp). Read between iterations, outside the timing.
   std::vector<cluster::CostSample> costs;
@@ -173,7 +185,9 @@ int run_bench_cluster(const BenchClusterOptions& o) {
     const double it = cluster::iteration_seconds(c, r), its = cluster::iteration_seconds(spread, r);
     std::printf("  %5d | %7.3f s %8.1f min %6.2fx | %7.3f s %8.1f min%s\n", r, it, iterations_total * it / 60.0,
                 base / it, its, iterations_total * its / 60.0,
-                r == ranks && c.threads_per_rank == static_cast<int>(threads) ? "   (this launch: measured above)" : "");
+                r == ranks && c.threads_per_rank == static_cast<int>(threads)
+                    ? (oversubscribed ? "   (this launch: measured above; cores shared)" : "   (this launch: measured above)")
+                    : "");
   }
   if (psi >= 16) {
     const double m16 = iterations_total * cluster::iteration_seconds(c, 16) / 60.0;

@@ -50,6 +50,17 @@ int world_size() {
   return n;
 }
 
+int ranks_on_this_machine() {
+  if (!mpi_active()) return 1;
+  MPI_Comm here;
+  if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &here) != MPI_SUCCESS)
+    throw std::runtime_error("MPI_Comm_split_type failed");
+  int n = 1;
+  MPI_Comm_size(here, &n);
+  MPI_Comm_free(&here);
+  return n;
+}
+
 void abort_world(int status) {
   if (mpi_active()) MPI_Abort(MPI_COMM_WORLD, status);
 }

@@ -25,6 +25,10 @@ class MpiSession {
 int world_rank();   // 0 without MPI
 int world_size();   // 1 without MPI
 
+// How many ranks of the job run on this process's machine (they share its memory), 1 without MPI.
+// Collective: every rank of the job must call it.
+int ranks_on_this_machine();
+
 // Ends every rank of the job at once (MPI_Abort) with `status`; without MPI, returns.
 void abort_world(int status);
 

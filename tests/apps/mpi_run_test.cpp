@@ -263,4 +263,35 @@ TEST(MpiRun, BadRankCountsAndOtherCommandsAreOneMessage) {
   EXPECT_EQ(r.output.find(m2), r.output.rfind(m2)) << r.output;
 }
 
+// `bench cluster` feeds its scaling model with c, the collection of a thread with a core of its
+// own. A launch with more threads than cores on rank 0's machine (2 ranks of as many threads as
+// the machine has cores: always twice too many) must say that its c is a share of a core; one
+// process of one thread never is, nor are 2 ranks of one thread on a machine of >= 2 cores.
+TEST(MpiRun, BenchClusterSaysWhenItsRanksShareCores) {
+  const fs::path dir = codesign::test::scratch_dir("codesign_mpi_", "bench");
+  codesign::test::TinyRun t = codesign::test::TinyRun::minimal();
+  std::ofstream(dir / "tiny.toml") << t.toml();
+  const std::string bench = "bench cluster --config " + (dir / "tiny.toml").string() + " --warmup 1 --iterations 1 ";
+  const std::string said = "the ranks share cores, so the model's c below is not one core's collection";
+  const unsigned cores = std::thread::hardware_concurrency();
+  ASSERT_GT(cores, 0u);
+  RunResult r = run_mpi(2, bench + "--threads " + std::to_string(cores));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("this launch runs 2 rank(s) x " + std::to_string(cores) + " thread(s) on the " +
+                          std::to_string(cores) + " cores of rank 0's machine"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find(said), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(this launch: measured above; cores shared)"), std::string::npos) << r.output;
+  r = codesign::test::run_codesign(bench + "--threads 1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(r.output.find(said), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(this launch: measured above)"), std::string::npos) << r.output;
+  if (cores >= 2) {
+    r = run_mpi(2, bench + "--threads 1");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(r.output.find(said), std::string::npos) << r.output;
+  }
+}
+
 }  // namespace
