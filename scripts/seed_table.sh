@@ -14,14 +14,11 @@ seeds=${3:?seeds}
 interval=${4:-}
 [ -z "$interval" ] || [ "$interval" = interval ] || { echo "seed_table: the fourth argument is 'interval' or nothing, not '$interval'" >&2; exit 2; }
 field() { awk -v k="$2" '/^\[best\]/ { b = 1; next } /^\[/ { b = 0 } b && $1 == k { print $3; exit }' "$1"; }
-header="| arm |"; rule="|---|"
-for s in $seeds; do header="$header seed $s |"; rule="$rule---|"; done
+. "$(dirname "$0")/seed_stats.sh"
 if [ -n "$interval" ]; then
-  echo "$header across seeds (mean ± std) | 95 % interval of the mean |"
-  echo "$rule---|---|"
+  seed_header "$seeds" "across_seeds_(mean_±_std) 95_%_interval_of_the_mean"
 else
-  echo "$header across seeds (mean ± std) |"
-  echo "$rule---|"
+  seed_header "$seeds" "across_seeds_(mean_±_std)"
 fi
 for a in $arms; do
   row="| $a |"; vals=""
@@ -35,16 +32,9 @@ for a in $arms; do
       row="$row — |"
     fi
   done
-  across=$(echo "$vals" | awk '{ n = NF; for (i = 1; i <= n; ++i) s += $i; if (n == 0) { print "—"; exit }
-    m = s / n; for (i = 1; i <= n; ++i) v += ($i - m) ^ 2
-    if (n > 1) printf "%.2f ± %.2f (%d seeds)", m, sqrt(v / (n - 1)), n; else printf "%.2f (1 seed)", m }')
   if [ -n "$interval" ]; then
-    ci=$(echo "$vals" | awk '{ n = NF; if (n < 2 || n > 11) { print "—"; exit }
-      split("12.706 4.303 3.182 2.776 2.571 2.447 2.365 2.306 2.262 2.228", t, " ")
-      for (i = 1; i <= n; ++i) s += $i; m = s / n; for (i = 1; i <= n; ++i) v += ($i - m) ^ 2
-      h = t[n - 1] * sqrt(v / (n - 1)) / sqrt(n); printf "%.2f ± %.2f (%.2f to %.2f)", m, h, m - h, m + h }')
-    echo "$row $across | $ci |"
+    echo "$row $(across_seeds "$vals") | $(interval_of_mean "$vals") |"
   else
-    echo "$row $across |"
+    echo "$row $(across_seeds "$vals") |"
   fi
 done

@@ -40,7 +40,7 @@ TEST(SeedScripts, TrainingSeedsAveragesTheWindowAcrossSeeds) {
   const RunResult r = codesign::test::run_shell("bash " + script("training_seeds.sh") + " " + runs.string() +
                                                 " arm \"1 2 3 4\" 20 40");
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("| arm | 2.00 (2 ep.) | 4.00 (1 ep.) | 6.00 (1 ep.) | — | 4.00 ± 2.00 (3 seeds) | -0.97 to 8.97 |"),
+  EXPECT_NE(r.output.find("| arm | 2.00 (2 ep.) | 4.00 (1 ep.) | 6.00 (1 ep.) | — | 4.00 ± 2.00 (3 seeds) | 4.00 ± 4.97 (-0.97 to 8.97) |"),
             std::string::npos)
       << r.output;
 }
