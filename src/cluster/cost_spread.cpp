@@ -48,24 +48,25 @@ CostSummary summarize_costs(const std::vector<CostSample>& samples) {
     n += 1.0;
     total += c.seconds;
   }
+  std::map<int, double> design_mean;
+  for (const auto& [d, sn] : by_design) design_mean[d] = sn.first / sn.second;
   CostSummary out;
-  out.designs = by_design.size();
+  out.designs = design_mean.size();
   out.mean = total / static_cast<double>(samples.size());
   out.least_design = std::numeric_limits<double>::infinity();
   out.largest_design = -std::numeric_limits<double>::infinity();
   double mean_of_means = 0.0;
-  for (const auto& [d, sn] : by_design) {
-    const double m = sn.first / sn.second;
+  for (const auto& [d, m] : design_mean) {
     mean_of_means += m;
     out.least_design = std::min(out.least_design, m);
     out.largest_design = std::max(out.largest_design, m);
   }
   mean_of_means /= static_cast<double>(out.designs);
   double across = 0.0, within = 0.0;
-  for (const auto& [d, sn] : by_design) across += (sn.first / sn.second - mean_of_means) * (sn.first / sn.second - mean_of_means);
+  for (const auto& [d, m] : design_mean) across += (m - mean_of_means) * (m - mean_of_means);
   for (const CostSample& c : samples) {
-    const auto& sn = by_design[c.design];
-    within += (c.seconds - sn.first / sn.second) * (c.seconds - sn.first / sn.second);
+    const double m = design_mean.at(c.design);
+    within += (c.seconds - m) * (c.seconds - m);
   }
   out.across_designs = std::sqrt(across / static_cast<double>(out.designs));
   out.within_design = std::sqrt(within / static_cast<double>(samples.size()));
@@ -86,8 +87,7 @@ BusiestLoad busiest_load_factor(const std::vector<CostSample>& samples, std::siz
   }
   const double mean = total / static_cast<double>(samples.size());
   const double rounds = static_cast<double>(collection_rounds(environments, ranks, threads));
-  std::vector<EnvSlice> slices;
-  for (int r = 0; r < ranks; ++r) slices.push_back(env_slice(environments, r, ranks));
+  const std::vector<EnvSlice> slices = env_slices(environments, ranks);
   std::vector<std::size_t> identity(environments);
   std::iota(identity.begin(), identity.end(), std::size_t{0});
 

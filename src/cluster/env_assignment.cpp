@@ -19,6 +19,12 @@ EnvSlice env_slice(std::size_t n_envs, int rank, int ranks) {
   return {r * base + std::min(r, extra), base + (r < extra ? 1 : 0)};
 }
 
+std::vector<EnvSlice> env_slices(std::size_t n_envs, int ranks) {
+  std::vector<EnvSlice> slices{env_slice(n_envs, 0, ranks)};  // throws for ranks < 1
+  for (int r = 1; r < ranks; ++r) slices.push_back(env_slice(n_envs, r, ranks));
+  return slices;
+}
+
 std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const std::vector<EnvSlice>& slices,
                                         const std::vector<std::size_t>& pinned) {
   const std::size_t n = cost.size(), ranks = slices.size();

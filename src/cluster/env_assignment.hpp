@@ -20,6 +20,8 @@ struct EnvSlice {
   std::size_t first = 0, count = 0;
 };
 EnvSlice env_slice(std::size_t n_envs, int rank, int ranks);
+// env_slice of every rank, rank 0 first (the same errors).
+std::vector<EnvSlice> env_slices(std::size_t n_envs, int ranks);
 
 // A permutation `order` of the environments 0 .. cost.size()-1: place j of the slices (rank r has
 // places [slices[r].first, + count)) steps environment order[j]. Pinned environments (each below

@@ -100,8 +100,7 @@ std::vector<double> columns(const Eigen::MatrixXd& m, EnvSlice s) {
 }  // namespace
 
 MpiEnvPool::MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n_envs, int ranks)
-    : local_(std::move(local)), n_envs_(n_envs), ranks_(ranks) {
-  for (int r = 0; r < ranks; ++r) slices_.push_back(env_slice(n_envs, r, ranks));
+    : local_(std::move(local)), n_envs_(n_envs), ranks_(ranks), slices_(env_slices(n_envs, ranks)) {
   if (!local_ || local_->size() != slices_[0].count)
     throw std::invalid_argument("MpiEnvPool: rank 0's pool must hold its slice of " + std::to_string(slices_[0].count) +
                                 " environments");
@@ -181,10 +180,8 @@ Eigen::MatrixXd MpiEnvPool::start(const std::vector<core::EpisodeSetup>& setups)
   ++starts_;
   if (!std::is_sorted(order_.begin(), order_.end())) ++reassigned_;  // a sorted permutation is the identity
   std::vector<core::EpisodeSetup> placed(n_envs_);
-  for (std::size_t j = 0; j < n_envs_; ++j) {
-    placed[j] = setups[order_[j]];
-    design_of_[order_[j]] = setups[order_[j]].design;
-  }
+  for (std::size_t j = 0; j < n_envs_; ++j) placed[j] = setups[order_[j]];
+  for (std::size_t i = 0; i < n_envs_; ++i) design_of_[i] = setups[i].design;
 
   for (int r = 1; r < ranks_; ++r) {
     send_command(r, kStart, 0);

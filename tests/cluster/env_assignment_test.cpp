@@ -18,13 +18,8 @@ namespace {
 
 using codesign::cluster::assign_by_cost;
 using codesign::cluster::env_slice;
+using codesign::cluster::env_slices;
 using codesign::cluster::EnvSlice;
-
-std::vector<EnvSlice> slices_of(std::size_t n, int ranks) {
-  std::vector<EnvSlice> s;
-  for (int r = 0; r < ranks; ++r) s.push_back(env_slice(n, r, ranks));
-  return s;
-}
 
 std::vector<double> loads(const std::vector<double>& cost, const std::vector<EnvSlice>& slices,
                           const std::vector<std::size_t>& order) {
@@ -54,6 +49,12 @@ TEST(EnvSlice, SlicesCoverEveryEnvironmentOnceInOrder) {
       }
       EXPECT_EQ(next, n);
       EXPECT_LE(largest - smallest, 1u);
+      const std::vector<EnvSlice> all = env_slices(n, ranks);  // every rank's env_slice, rank 0 first
+      ASSERT_EQ(all.size(), static_cast<std::size_t>(ranks));
+      for (int r = 0; r < ranks; ++r) {
+        EXPECT_EQ(all[static_cast<std::size_t>(r)].first, env_slice(n, r, ranks).first);
+        EXPECT_EQ(all[static_cast<std::size_t>(r)].count, env_slice(n, r, ranks).count);
+      }
     }
   }
   // 40 environments (the paper's ψ) on 16 ranks: 8 ranks of 3, then 8 of 2.
@@ -67,6 +68,8 @@ TEST(EnvSlice, RankCountsThatLeaveARankEmptyAreRefused) {
   EXPECT_THROW(env_slice(4, 0, 0), std::invalid_argument);
   EXPECT_THROW(env_slice(4, 2, 2), std::invalid_argument);
   EXPECT_THROW(env_slice(4, -1, 2), std::invalid_argument);
+  EXPECT_THROW(env_slices(4, 5), std::invalid_argument);
+  EXPECT_THROW(env_slices(4, 0), std::invalid_argument);
 }
 
 // Worked by hand: six environments on two ranks of three places, environment 0 pinned (cost 1).
@@ -75,7 +78,7 @@ TEST(EnvSlice, RankCountsThatLeaveARankEmptyAreRefused) {
 // slices {0, 1, 2} and {3, 4, 5} would carry 18 and 12.
 TEST(AssignByCost, HandWorkedSplitOfSixOverTwoRanks) {
   const std::vector<double> cost = {1, 9, 8, 2, 7, 3};
-  const auto slices = slices_of(6, 2);
+  const auto slices = env_slices(6, 2);
   const std::vector<std::size_t> order = assign_by_cost(cost, slices, {0});
   EXPECT_EQ(order, (std::vector<std::size_t>{0, 2, 4, 1, 3, 5}));
   EXPECT_EQ(loads(cost, slices, order), (std::vector<double>{16, 14}));
@@ -89,10 +92,10 @@ TEST(AssignByCost, HandWorkedSplitOfSixOverTwoRanks) {
 // Ties go to the lower index first and to the lower rank: five equal costs on 3 + 2 places deal
 // 0 to rank 0, 1 to rank 1, 2 to rank 0, 3 to rank 1, 4 to rank 0.
 TEST(AssignByCost, TiesDealInIndexAndRankOrder) {
-  const std::vector<std::size_t> order = assign_by_cost(std::vector<double>(5, 0.25), slices_of(5, 2), {});
+  const std::vector<std::size_t> order = assign_by_cost(std::vector<double>(5, 0.25), env_slices(5, 2), {});
   EXPECT_EQ(order, (std::vector<std::size_t>{0, 2, 4, 1, 3}));
   // One rank: the identity, whatever the costs.
-  EXPECT_EQ(assign_by_cost({3, 1, 2}, slices_of(3, 1), {0}), (std::vector<std::size_t>{0, 1, 2}));
+  EXPECT_EQ(assign_by_cost({3, 1, 2}, env_slices(3, 1), {0}), (std::vector<std::size_t>{0, 1, 2}));
 }
 
 // Random costs: a permutation; pins at their own place; each rank's others in ascending order; and
@@ -105,7 +108,7 @@ TEST(AssignByCost, RandomCostsGiveAPermutationWithinTheGreedyBound) {
   for (int trial = 0; trial < 400; ++trial) {
     const std::size_t n = 1 + rng() % 48;
     const int ranks = 1 + static_cast<int>(rng() % std::min<std::size_t>(n, 9));
-    const auto slices = slices_of(n, ranks);
+    const auto slices = env_slices(n, ranks);
     std::vector<double> cost(n);
     for (double& c : cost) c = u(rng);
     const bool pin = trial % 2 == 1;
@@ -129,7 +132,7 @@ TEST(AssignByCost, RandomCostsGiveAPermutationWithinTheGreedyBound) {
 }
 
 TEST(AssignByCost, BadInputIsRefused) {
-  const auto slices = slices_of(4, 2);
+  const auto slices = env_slices(4, 2);
   EXPECT_THROW(assign_by_cost({1, 1, 1}, slices, {}), std::invalid_argument);           // 3 costs, 4 places
   EXPECT_THROW(assign_by_cost({1, -1, 1, 1}, slices, {}), std::invalid_argument);       // negative
   EXPECT_THROW(assign_by_cost({1, std::nan(""), 1, 1}, slices, {}), std::invalid_argument);
