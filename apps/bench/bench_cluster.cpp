@@ -8,7 +8,9 @@
 // iteration split into collection, PPO update, policy inference and distribution update; the
 // collection CPU of one environment per iteration (settles and FEM steps) and the collection wall
 // of one environment per round of the busiest rank's threads (the model's c, which also holds
-// resets, observations, thread hand-offs and imbalance); with ≥ 2 ranks, the cost of one exchange
+// resets, observations, thread hand-offs and imbalance); the CPU of simulator builds and meshing
+// (every rank); the machine's busy, idle and stolen core-seconds over the timed iterations from
+// /proc/stat (every process: run it on otherwise idle cores); with ≥ 2 ranks, the cost of one exchange
 // of a step's shape between rank 0 and one rank (mean of --exchanges rounds). Then the scaling
 // model (cluster/scaling_model.hpp) with these costs: seconds per iteration and the projected run
 // time for 1 … ψ ranks of --model-threads threads, with the update on rank 0 (as built) and
@@ -20,11 +22,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <unistd.h>
 
 #include "cli_options.hpp"
 #include "cluster/cost_spread.hpp"
@@ -39,6 +44,27 @@
 namespace codesign::app {
 
 namespace {
+
+// The machine's CPU time so far from the first line of /proc/stat, in core-seconds: busy (user,
+// nice, system, irq, softirq), idle (idle, iowait) and stolen by the hypervisor. All zero where
+// the file cannot be read.
+struct MachineTimes {
+  double busy = 0.0, idle = 0.0, stolen = 0.0;
+};
+MachineTimes machine_times() {
+  MachineTimes t;
+  std::ifstream in("/proc/stat");
+  std::string cpu;
+  double f[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // user nice system idle iowait irq softirq steal
+  if (!(in >> cpu) || cpu != "cpu") return t;
+  for (double& x : f)
+    if (!(in >> x)) return t;
+  const double hz = static_cast<double>(sysconf(_SC_CLK_TCK));
+  t.busy = (f[0] + f[1] + f[2] + f[5] + f[6]) / hz;
+  t.idle = (f[3] + f[4]) / hz;
+  t.stolen = f[7] / hz;
+  return t;
+}
 
 struct BenchClusterOptions {
   std::string config = "configs/paper.toml";
@@ -99,13 +125,14 @@ int run_bench_cluster(const BenchClusterOptions& o) {
     exchange = cluster::time_exchanges(ranks, slice * act, slice * (5 + 2 * obs), o.exchanges);
   }
 
-  const double settle0 = pool->settle_seconds(), step0 = pool->step_seconds();
+  const double settle0 = pool->settle_seconds(), step0 = pool->step_seconds(), build0 = pool->build_seconds();
 
   const int starts0 = mpi_pool ? mpi_pool->starts() : 0, moved0 = mpi_pool ? mpi_pool->reassigned_starts() : 0;
   const double start_wait0 = mpi_pool ? mpi_pool->start_wait_seconds() : 0.0;
   const double step_wait0 = mpi_pool ? mpi_pool->step_wait_seconds() : 0.0;
   double collect = 0.0, update = 0.0, dist = 0.0, policy = 0.0, imbalance = 0.0, imbalance_s = 0.0;
   std::size_t restarts = 0;  // episodes that ended before the rollout's last step and so restarted
+  const MachineTimes m0 = machine_times();
   const auto t0 = std::chrono::steady_clock::now();
   for (int k = 0; k < o.iterations; ++k) {
     const core::IterationReport r = loop.iterate();
@@ -125,6 +152,7 @@ int run_bench_cluster(const BenchClusterOptions& o) {
     imbalance_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - q0).count();
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() - imbalance_s;
+  const MachineTimes m1 = machine_times();
   const double env_cpu = (pool->settle_seconds() - settle0 + pool->step_seconds() - step0) / o.iterations / psi;
   const double n = o.iterations;
   // The collection wall of one environment in one round of the busiest rank's threads: this
@@ -139,8 +167,9 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   std::printf("  collection of one environment per iteration: %.4f s CPU in settles and FEM steps, %.4f s wall per "
               "round of a rank's threads (the model's c)\n",
               env_cpu, env_wall);
-  std::printf("  simulators built during the timed iterations on rank 0: %d (after %d warm-up iteration(s))\n",
-              sims->constructed() - built0, o.warmup);
+  std::printf("  simulators built during the timed iterations on rank 0: %d (after %d warm-up iteration(s)); CPU "
+              "in building simulators and meshing designs, every rank: %.3f s per iteration\n",
+              sims->constructed() - built0, o.warmup, (pool->build_seconds() - build0) / n);
   std::printf("  of it in settles (each start's and each restart's): %.4f s CPU; episodes restarted within a rollout: "
               "%.1f per iteration\n",
               (pool->settle_seconds() - settle0) / o.iterations / psi, static_cast<double>(restarts) / n);
@@ -154,6 +183,11 @@ int run_bench_cluster(const BenchClusterOptions& o) {
                 (mpi_pool->start_wait_seconds() - start_wait0 + mpi_pool->step_wait_seconds() - step_wait0) / o.iterations,
                 (mpi_pool->start_wait_seconds() - start_wait0) / o.iterations,
                 (mpi_pool->step_wait_seconds() - step_wait0) / o.iterations);
+  if (m1.busy + m1.idle > 0.0)
+    std::printf("  the machine over the timed iterations (/proc/stat, every process): %.3f core-s busy, %.3f idle, %.3f "
+                "stolen by the hypervisor per iteration; busy beyond the settles and FEM steps: %.3f core-s\n",
+                (m1.busy - m0.busy) / n, (m1.idle - m0.idle) / n, (m1.stolen - m0.stolen) / n,
+                (m1.busy - m0.busy) / n - env_cpu * psi);
   if (ranks > 1)
     std::printf("  one exchange rank 0 <-> one rank (a step's shape, mean of %d rounds over %d ranks): %.1f us\n",
                 o.exchanges, ranks - 1, 1e6 * exchange);

@@ -253,14 +253,13 @@ const rl::VecStepResult& MpiEnvPool::step(const Eigen::MatrixXd& actions, bool r
   return result_;
 }
 
-// The settle and step CPU seconds of ranks 1.. (one query each).
-std::array<double, 2> MpiEnvPool::remote_seconds() const {
-  std::array<double, 2> sum{0.0, 0.0};
+// The settle, step and build CPU seconds of ranks 1.. (one query each).
+std::array<double, 3> MpiEnvPool::remote_seconds() const {
+  std::array<double, 3> sum{0.0, 0.0, 0.0};
   for (int r = 1; r < ranks_; ++r) {
     send_command(r, kTimes, 0);
-    const std::vector<double> v = recv_doubles(2, r, kTagReply);
-    sum[0] += v[0];
-    sum[1] += v[1];
+    const std::vector<double> v = recv_doubles(sum.size(), r, kTagReply);
+    for (std::size_t k = 0; k < sum.size(); ++k) sum[k] += v[k];
   }
   return sum;
 }
@@ -268,6 +267,8 @@ std::array<double, 2> MpiEnvPool::remote_seconds() const {
 double MpiEnvPool::settle_seconds() const { return local_->settle_seconds() + remote_seconds()[0]; }
 
 double MpiEnvPool::step_seconds() const { return local_->step_seconds() + remote_seconds()[1]; }
+
+double MpiEnvPool::build_seconds() const { return local_->build_seconds() + remote_seconds()[2]; }
 
 void MpiEnvPool::set_step_observer(std::size_t i, StepObserver observer, int every) {
   if (i >= slices_[0].count)
@@ -325,7 +326,7 @@ void serve_env_pool(core::ThreadEnvPool& local) {
         break;
       }
       case kTimes:
-        send_doubles({local.settle_seconds(), local.step_seconds()}, 0, kTagReply);
+        send_doubles({local.settle_seconds(), local.step_seconds(), local.build_seconds()}, 0, kTagReply);
         break;
       case kCosts:
         send_doubles(local.work_since_start(), 0, kTagReply);

@@ -46,6 +46,7 @@ class MpiEnvPool final : public core::EnvPool {
   int last_in_band(std::size_t i) const override { return last_in_band_.at(i); }
   double settle_seconds() const override;
   double step_seconds() const override;
+  double build_seconds() const override;
   void set_step_observer(std::size_t i, StepObserver observer, int every) override;
   std::vector<double> work_since_start() const override;  // one exchange with every rank
   // The PPO update's threads: rank 0's rollout threads, or two threads of its own when rank 0 steps
@@ -69,7 +70,7 @@ class MpiEnvPool final : public core::EnvPool {
   double step_wait_seconds() const { return step_wait_s_; }
 
  private:
-  std::array<double, 2> remote_seconds() const;
+  std::array<double, 3> remote_seconds() const;  // settle, step, build: ranks 1..
   void learn_costs();  // from the iteration just ended, into design_cost_
 
   std::unique_ptr<core::ThreadEnvPool> local_;

@@ -14,7 +14,8 @@ namespace codesign::core {
 
 ThreadEnvPool::ThreadEnvPool(std::shared_ptr<SimulatorPool> sims, const TaskConfig& task, std::size_t n_envs,
                              std::size_t n_threads, bool privileged)
-    : pool_(n_threads) {
+    : sims_(sims), pool_(n_threads) {
+  if (!sims_) throw std::invalid_argument("ThreadEnvPool: no simulator pool");
   if (n_envs < 1) throw std::invalid_argument("ThreadEnvPool: need at least one environment");
   for (std::size_t i = 0; i < n_envs; ++i) envs_.push_back(std::make_unique<WhiskerEnv>(sims, task, privileged));
   result_ = rl::VecStepResult(envs_.front()->spec().observation.dim(), n_envs);

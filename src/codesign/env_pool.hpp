@@ -40,6 +40,9 @@ class EnvPool {
   // Seconds (summed over the environments, i.e. CPU time) spent settling and stepping so far.
   virtual double settle_seconds() const = 0;
   virtual double step_seconds() const = 0;
+  // Seconds (CPU time) spent building the simulators and the designs' models the environments
+  // leased (SimulatorPool::build_seconds): rollout work outside the settles and steps.
+  virtual double build_seconds() const = 0;
   // Called with environment i's setup and the simulation state at the end of every `every`-th
   // decision it takes (counted over all its episodes), before an auto-reset, on the thread that
   // steps it. For decimated live telemetry of a training environment; it only reads, so results
@@ -68,12 +71,14 @@ class ThreadEnvPool final : public EnvPool {
   int last_in_band(std::size_t i) const override { return last_in_band_[i]; }
   double settle_seconds() const override;
   double step_seconds() const override;
+  double build_seconds() const override { return sims_->build_seconds(); }
   void set_step_observer(std::size_t i, StepObserver observer, int every) override;
   std::size_t threads() const { return pool_.size(); }
   rl::ThreadPool* thread_pool() override { return &pool_; }
   std::vector<double> work_since_start() const override;
 
  private:
+  std::shared_ptr<SimulatorPool> sims_;
   std::vector<std::unique_ptr<WhiskerEnv>> envs_;
   rl::ThreadPool pool_;
   rl::VecStepResult result_;

@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "base/thread_cpu_seconds.hpp"
 #include "fem/design.hpp"
 
 namespace codesign::core {
@@ -27,9 +28,12 @@ std::shared_ptr<const fem::Model> SimulatorPool::model(int design) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (models_[design]) return models_[design];
   }
+  const double t0 = thread_cpu_seconds();
   std::shared_ptr<const fem::Model> m = fem::build_whisker_model(design, spec_);
+  const double spent = thread_cpu_seconds() - t0;
   std::lock_guard<std::mutex> lock(mutex_);
   models_[design] = m;
+  build_s_ += spent;
   return m;
 }
 
@@ -45,7 +49,12 @@ std::unique_ptr<fem::Simulator> SimulatorPool::acquire(int design) {
     }
     ++constructed_;
   }
-  return std::make_unique<fem::Simulator>(std::move(m), scene_, solver_);
+  const double t0 = thread_cpu_seconds();
+  auto sim = std::make_unique<fem::Simulator>(std::move(m), scene_, solver_);
+  const double spent = thread_cpu_seconds() - t0;
+  std::lock_guard<std::mutex> lock(mutex_);
+  build_s_ += spent;
+  return sim;
 }
 
 void SimulatorPool::release(int design, std::unique_ptr<fem::Simulator> sim) {
@@ -57,6 +66,11 @@ void SimulatorPool::release(int design, std::unique_ptr<fem::Simulator> sim) {
 int SimulatorPool::constructed() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return constructed_;
+}
+
+double SimulatorPool::build_seconds() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return build_s_;
 }
 
 }  // namespace codesign::core

@@ -32,8 +32,11 @@ class SimulatorPool {
   const fem::SceneConfig& scene() const { return scene_; }
   const fem::SolverConfig& solver() const { return solver_; }
   const fem::WhiskerModelSpec& spec() const { return spec_; }
-  // Simulators constructed so far (for the bench's accounting).
+  // Simulators constructed so far, and the thread CPU seconds spent building them and the designs'
+  // models (meshing included): work of the rollouts outside their settles and FEM steps (for the
+  // benches' accounting).
   int constructed() const;
+  double build_seconds() const;
 
  private:
   const fem::WhiskerModelSpec spec_;
@@ -44,6 +47,7 @@ class SimulatorPool {
   std::vector<std::vector<std::unique_ptr<fem::Simulator>>> free_;     // per design
   std::vector<std::unique_ptr<std::mutex>> build_mutex_;               // per design
   int constructed_ = 0;
+  double build_s_ = 0.0;
 };
 
 }  // namespace codesign::core

@@ -6,8 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include <time.h>
-
+#include "base/thread_cpu_seconds.hpp"
 #include "fem/design.hpp"
 
 namespace codesign::core {
@@ -28,14 +27,6 @@ rl::EnvSpec make_spec(const TaskConfig& task, bool privileged) {
   s.action.low = Eigen::VectorXd::Constant(1, -1.0);
   s.action.high = Eigen::VectorXd::Constant(1, 1.0);
   return s;
-}
-
-// CPU time of the calling thread [s]: the bench's split of FEM stepping and settling then does
-// not count time the scheduler gave to other processes (this machine is often shared).
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 // A failure reason as one CSV cell of the logs: no comma, quote or line break.

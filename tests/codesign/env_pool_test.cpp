@@ -1,5 +1,5 @@
 // ThreadEnvPool's step observer: the state at the end of every N-th decision of one environment,
-// equal to that environment's own trace.
+// equal to that environment's own trace; its build seconds: CPU of simulator and model builds only.
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -58,6 +58,29 @@ TEST(ThreadEnvPool, StepObserverSeesTheEndOfEveryNthDecision) {
   pool.set_step_observer(0, nullptr, 2);
   for (int k = 0; k < 2; ++k) pool.step(actions, true);
   EXPECT_EQ(seen.size(), static_cast<std::size_t>(decisions / 2));
+}
+
+// build_seconds() counts the CPU of meshing designs and constructing simulators, and nothing when
+// the environments keep the simulators they have. Swapping the two designs (one thread, in either
+// order) builds exactly one more: the first environment to start gives its simulator back and finds
+// the other design's still held, the second finds the first one's free.
+TEST(ThreadEnvPool, BuildSecondsCountBuildsNotLeases) {
+  auto sims = std::make_shared<core::SimulatorPool>(fem::WhiskerModelSpec{}, fem::SceneConfig{}, fem::SolverConfig{});
+  const core::TaskConfig task;
+  core::ThreadEnvPool pool(sims, task, 2, 1);
+  EXPECT_EQ(pool.build_seconds(), 0.0);
+  const EpisodeSetup a{21, 2.0, 0.0, 0.5, 0.0}, b{63, 1.0, 3.0, 1.5, 0.0};
+  pool.start({a, b});
+  EXPECT_EQ(sims->constructed(), 2);
+  const double first = pool.build_seconds();
+  EXPECT_GT(first, 0.0);
+  EXPECT_EQ(first, sims->build_seconds());
+  pool.start({a, b});  // each environment keeps its simulator
+  EXPECT_EQ(sims->constructed(), 2);
+  EXPECT_EQ(pool.build_seconds(), first);
+  pool.start({b, a});
+  EXPECT_EQ(sims->constructed(), 3);
+  EXPECT_GT(pool.build_seconds(), first);
 }
 
 }  // namespace

@@ -1,0 +1,14 @@
+#pragma once
+// CPU time of the calling thread [s]: the benches' split of the rollouts' work (settles, FEM steps,
+// simulator builds) then does not count time the scheduler gave to other threads or processes.
+#include <ctime>
+
+namespace codesign {
+
+inline double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+}  // namespace codesign
