@@ -40,8 +40,9 @@ class EnvPool {
   // Seconds (summed over the environments, i.e. CPU time) spent settling and stepping so far.
   virtual double settle_seconds() const = 0;
   virtual double step_seconds() const = 0;
-  // Seconds (CPU time) spent building the simulators and the designs' models the environments
-  // leased (SimulatorPool::build_seconds): rollout work outside the settles and steps.
+  // Seconds (CPU time) the simulator pool the environments lease from spent building simulators
+  // and the designs' models so far (SimulatorPool::build_seconds; builds for any other user of that
+  // pool count too): rollout work outside the settles and steps.
   virtual double build_seconds() const = 0;
   // Called with environment i's setup and the simulation state at the end of every `every`-th
   // decision it takes (counted over all its episodes), before an auto-reset, on the thread that

@@ -283,6 +283,11 @@ TEST(MpiRun, BenchClusterSaysWhenItsRanksShareCores) {
       << r.output;
   EXPECT_NE(r.output.find(said), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("(this launch: measured above; cores shared)"), std::string::npos) << r.output;
+  // Where the core-seconds went: builds summed over the ranks, the machine's counters.
+  EXPECT_NE(r.output.find("CPU in building simulators and meshing designs, every rank: "), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("the machine over the timed iterations (/proc/stat, every process): "), std::string::npos)
+      << r.output;
   r = codesign::test::run_codesign(bench + "--threads 1");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_EQ(r.output.find(said), std::string::npos) << r.output;
