@@ -16,12 +16,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <memory>
 #include <numbers>
 #include <string>
 #include <vector>
 
+#include "base/thread_cpu_seconds.hpp"
 #include "commands.hpp"
 #include "run/run_config.hpp"
 
@@ -35,14 +35,6 @@ struct BenchFemOptions {
   int steps = 250;
   double turn_deg = -1.0;  // < 0: the gentle default schedule
 };
-
-// CPU time of this thread [s]: unlike wall time it excludes time the scheduler gave to other
-// processes, which matters on a shared machine.
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 struct Trace {
   std::vector<double> seconds, cpu_seconds, force_mN;

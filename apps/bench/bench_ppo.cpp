@@ -18,7 +18,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <string>
 #include <vector>
 
@@ -28,6 +27,7 @@
 #include <immintrin.h>
 #endif
 
+#include "base/thread_cpu_seconds.hpp"
 #include "commands.hpp"
 #include "io/gym_config.hpp"
 #include "rl/gemm.hpp"
@@ -42,14 +42,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// CPU time of the calling thread: on a shared machine this is closer to what the code costs on
-// an idle core than wall time (it still includes cache interference from other processes).
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 // Measured single-core fp32 FMA peak: 16 independent chains of fused multiply-adds on the
