@@ -9,7 +9,8 @@
 #
 # Writes OUTDIR/N.one.txt and N.ranks.txt (the benches' output), N.one.ctx and N.ranks.ctx (per
 # thread: user and system seconds, voluntary and involuntary switches over the window), N.time.
-# Run it on otherwise idle cores. Open MPI on this machine only (shared memory, loopback).
+# RANK_THREADS (default 2) sets the two-rank launch's --threads per rank (1: the ranks do not share
+# cores). Run it on otherwise idle cores. Open MPI on this machine only (shared memory, loopback).
 set -euo pipefail
 if [ $# -lt 4 ]; then
   echo "usage: bash scripts/cluster_rounds.sh BINARY CONFIG OUTDIR ROUNDS [WARMUP]" >&2
@@ -21,6 +22,7 @@ mkdir -p "$OUT"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 MPI="mpirun -np 2 --bind-to none --oversubscribe --mca btl self,vader --mca btl_vader_single_copy_mechanism none --mca oob_tcp_if_include lo"
 BENCH="bench cluster --config $CFG --threads 2 --warmup $WARMUP --iterations 5"
+RANK_BENCH="bench cluster --config $CFG --threads ${RANK_THREADS:-2} --warmup $WARMUP --iterations 5"
 
 # One line per thread of the bench's processes: pid-tid user_ticks system_ticks voluntary involuntary
 threads_now() {
@@ -40,7 +42,7 @@ sample() {  # $1: output file
   rm -f "$a" "$b"
 }
 one() { sample "$OUT/$1.one.ctx" & "$BIN" $BENCH > "$OUT/$1.one.txt" 2>&1; wait; }
-ranks() { sample "$OUT/$1.ranks.ctx" & $MPI "$BIN" $BENCH > "$OUT/$1.ranks.txt" 2>&1; wait; }
+ranks() { sample "$OUT/$1.ranks.ctx" & $MPI "$BIN" $RANK_BENCH > "$OUT/$1.ranks.txt" 2>&1; wait; }
 for i in $(seq 1 "$N"); do
   date -u +%T > "$OUT/$i.time"
   if [ $((i % 2)) = 1 ]; then one "$i"; ranks "$i"; else ranks "$i"; one "$i"; fi

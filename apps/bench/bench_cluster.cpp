@@ -21,12 +21,14 @@
 // bench says that its c is a share of a core, which the model cannot use.
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <map>
 #include <memory>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <unistd.h>
@@ -66,6 +68,50 @@ MachineTimes machine_times() {
   return t;
 }
 
+// The rollout pool of a one-process launch, forwarding every call to the pool it owns, that reads
+// after start() and after each step() every environment's settle and step CPU since the start
+// (work_since_start: in one process a read of counters, nothing exchanged): the per-decision costs
+// cluster::meeting_load_factor simulates the ranks' meetings from.
+class DecisionCostRecorder final : public core::EnvPool {
+ public:
+  explicit DecisionCostRecorder(std::unique_ptr<core::EnvPool> inner) : inner_(std::move(inner)) {}
+  std::size_t size() const override { return inner_->size(); }
+  const rl::EnvSpec& spec() const override { return inner_->spec(); }
+  Eigen::MatrixXd start(const std::vector<core::EpisodeSetup>& setups) override {
+    Eigen::MatrixXd obs = inner_->start(setups);
+    const std::vector<double> w = inner_->work_since_start();
+    profiles_.assign(w.size(), {});
+    for (std::size_t i = 0; i < w.size(); ++i) profiles_[i].push_back(w[i]);
+    last_ = w;
+    return obs;
+  }
+  const rl::VecStepResult& step(const Eigen::MatrixXd& actions, bool restart) override {
+    const rl::VecStepResult& r = inner_->step(actions, restart);
+    const std::vector<double> w = inner_->work_since_start();
+    for (std::size_t i = 0; i < w.size() && i < profiles_.size(); ++i) {
+      profiles_[i].push_back(w[i] - last_[i]);
+      last_[i] = w[i];
+    }
+    return r;
+  }
+  int last_in_band(std::size_t i) const override { return inner_->last_in_band(i); }
+  double settle_seconds() const override { return inner_->settle_seconds(); }
+  double step_seconds() const override { return inner_->step_seconds(); }
+  double build_seconds() const override { return inner_->build_seconds(); }
+  void set_step_observer(std::size_t i, StepObserver observer, int every) override {
+    inner_->set_step_observer(i, std::move(observer), every);
+  }
+  std::vector<double> work_since_start() const override { return inner_->work_since_start(); }
+  rl::ThreadPool* thread_pool() override { return inner_->thread_pool(); }
+  // Per environment, its costs at the last rollout's start and decisions.
+  const std::vector<std::vector<double>>& profiles() const { return profiles_; }
+
+ private:
+  std::unique_ptr<core::EnvPool> inner_;
+  std::vector<std::vector<double>> profiles_;
+  std::vector<double> last_;
+};
+
 struct BenchClusterOptions {
   std::string config = "configs/paper.toml";
   int iterations = 3;
@@ -77,6 +123,44 @@ struct BenchClusterOptions {
   int spread_draws = 4000;
 };
 
+// The cost of the ranks' meeting at every decision (cluster::meeting_load_factor), from this
+// one-process launch's per-decision costs. The model's c was measured with this launch's own
+// meetings (one rank of `launch_threads` threads), so a projection scales it by L_N / L_1.
+void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cluster::ScalingCosts& c,
+                    double iterations_total, int launch_threads, const BenchClusterOptions& o) {
+  const std::size_t psi = c.environments;
+  const std::uint64_t seed = 20261205;
+  const cluster::MeetingLoad own = cluster::meeting_load_factor(samples, psi, 1, launch_threads, o.spread_draws, seed);
+  std::printf("bench cluster: the meeting at every decision (cluster/cost_spread.hpp), from %zu environment "
+              "iterations of %zu decision costs each (every iteration above): L = the collection over the model's "
+              "rounds x mean cost, mean of %d simulated iterations split by cost; this launch (1 rank x %d "
+              "thread(s)): L_1 = %.3f\n",
+              samples.size(), samples.front().seconds.size(), o.spread_draws, launch_threads, own.lockstep);
+  if (launch_threads > 1 && static_cast<std::size_t>(launch_threads) <= psi) {
+    const cluster::MeetingLoad split =
+        cluster::meeting_load_factor(samples, psi, launch_threads, 1, o.spread_draws, seed);
+    const double rounds_one = static_cast<double>(cluster::collection_rounds(psi, 1, launch_threads));
+    const double rounds_split = static_cast<double>(cluster::collection_rounds(psi, launch_threads, 1));
+    std::printf("  the same %d cores as %d ranks x 1 thread: collection x %.3f of this launch's meeting at every "
+                "decision (L = %.3f), x %.3f if the ranks met only at the iteration's end (L = %.3f)\n",
+                launch_threads, launch_threads, split.lockstep * rounds_split / (own.lockstep * rounds_one),
+                split.lockstep, split.run_ahead * rounds_split / (own.lockstep * rounds_one), split.run_ahead);
+  }
+  std::printf("  ranks | L meeting every decision (built) | L meeting at the iteration's end | run, update on rank 0: "
+              "every decision, iteration's end (c x L / L_1)\n");
+  for (int r : {1, 2, 4, 8, 16, 32, 64}) {
+    if (static_cast<std::size_t>(r) > psi) break;
+    const cluster::MeetingLoad m =
+        cluster::meeting_load_factor(samples, psi, r, c.threads_per_rank, o.spread_draws, seed);
+    cluster::ScalingCosts every = c, end = c;
+    every.collect_factor = m.lockstep / own.lockstep;
+    end.collect_factor = m.run_ahead / own.lockstep;
+    std::printf("  %5d | %32.3f | %32.3f | %8.1f min, %8.1f min\n", r, m.lockstep, m.run_ahead,
+                iterations_total * cluster::iteration_seconds(every, r) / 60.0,
+                iterations_total * cluster::iteration_seconds(end, r) / 60.0);
+  }
+}
+
 int run_bench_cluster(const BenchClusterOptions& o) {
   const run::RunConfig setup = run::read_run_config(o.config);
   const run::RunSettings s = run::run_settings(setup);
@@ -86,9 +170,15 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   const int ranks = cluster::world_size();
   auto sims = std::make_shared<core::SimulatorPool>(s.spec, s.scene, s.solver);
   std::unique_ptr<core::EnvPool> envs = run::make_rollout_pool(sims, lc, static_cast<std::size_t>(o.threads), ranks);
-  core::EnvPool* pool = envs.get();
-  auto* mpi_pool = dynamic_cast<cluster::MpiEnvPool*>(pool);
+  auto* mpi_pool = dynamic_cast<cluster::MpiEnvPool*>(envs.get());
   if (mpi_pool) mpi_pool->set_share_by_cost(!o.contiguous);
+  DecisionCostRecorder* recorder = nullptr;  // one process: each decision's costs, for the meetings
+  if (!mpi_pool) {
+    auto r = std::make_unique<DecisionCostRecorder>(std::move(envs));
+    recorder = r.get();
+    envs = std::move(r);
+  }
+  core::EnvPool* pool = envs.get();
   const std::size_t threads =
       o.threads > 0 ? static_cast<std::size_t>(o.threads) : std::max(1u, std::thread::hardware_concurrency());
   core::OuterLoop loop(lc, std::move(envs));
@@ -107,10 +197,14 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   // Each environment's settle and step CPU over each iteration, with its design: for the designs'
   // cost spread in the model (cluster/cost_spread.hpp). Read between iterations, outside the timing.
   std::vector<cluster::CostSample> costs;
+  std::vector<cluster::DecisionCosts> decision_costs;  // the same, decision by decision (one process)
   // Returns the iteration's per-environment costs (under MPI: one exchange with every rank).
   auto keep_costs = [&](const core::IterationReport& r) {
     const std::vector<double> w = pool->work_since_start();
     for (std::size_t i = 0; i < w.size() && i < r.samples.size(); ++i) costs.push_back({r.samples[i].design, w[i]});
+    if (recorder)
+      for (std::size_t i = 0; i < recorder->profiles().size() && i < r.samples.size(); ++i)
+        decision_costs.push_back({r.samples[i].design, recorder->profiles()[i]});
     return w;
   };
   for (int k = 0; k < o.warmup; ++k) keep_costs(loop.iterate());  // meshes the sampled designs, builds simulators
@@ -258,6 +352,10 @@ int run_bench_cluster(const BenchClusterOptions& o) {
               "model's floor is %.1f min\n",
               c.update_s + c.policy_s + c.distribution_s,
               iterations_total * (c.update_s + c.policy_s + c.distribution_s + c.env_collect_s) / 60.0);
+  if (!decision_costs.empty()) print_meetings(decision_costs, c, iterations_total, static_cast<int>(threads), o);
+  else
+    std::printf("bench cluster: the meetings at every decision are simulated from a one-process launch's decision "
+                "costs (not recorded under mpirun)\n");
   return 0;
 }
 

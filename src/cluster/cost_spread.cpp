@@ -36,6 +36,23 @@ double busiest(const std::vector<double>& actual, const std::vector<std::size_t>
   return worst;
 }
 
+// The makespan of `costs` over `threads` threads that take them in `order`, each to the thread free
+// soonest (ThreadPool::parallel_for_ordered). `load` is scratch of `threads` entries.
+double list_makespan(const std::vector<double>& costs, const std::vector<std::size_t>& order,
+                     std::vector<double>& load) {
+  std::fill(load.begin(), load.end(), 0.0);
+  for (std::size_t i : order) *std::min_element(load.begin(), load.end()) += costs[i];
+  return *std::max_element(load.begin(), load.end());
+}
+
+// Indices 0 .. key.size()-1, largest key first (ties: lower index first).
+std::vector<std::size_t> by_decreasing(const std::vector<double>& key) {
+  std::vector<std::size_t> o(key.size());
+  std::iota(o.begin(), o.end(), std::size_t{0});
+  std::stable_sort(o.begin(), o.end(), [&](std::size_t a, std::size_t b) { return key[a] > key[b]; });
+  return o;
+}
+
 }  // namespace
 
 CostSummary summarize_costs(const std::vector<CostSample>& samples) {
@@ -114,6 +131,75 @@ BusiestLoad busiest_load_factor(const std::vector<CostSample>& samples, std::siz
   const double norm = static_cast<double>(draws) * rounds * mean;
   if (norm <= 0.0) return {};
   return {sum_contiguous / norm, sum_by_cost / norm};
+}
+
+MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::size_t environments, int ranks,
+                                int threads, int draws, std::uint64_t seed) {
+  if (samples.empty()) throw std::invalid_argument("meeting_load_factor: no cost samples");
+  if (draws < 1) throw std::invalid_argument("meeting_load_factor: draws < 1");
+  const std::size_t points = samples.front().seconds.size();
+  if (points == 0) throw std::invalid_argument("meeting_load_factor: an empty profile");
+  std::vector<double> total(samples.size(), 0.0);
+  std::map<int, std::vector<std::size_t>> of_design;
+  double sum = 0.0;
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    if (samples[s].seconds.size() != points)
+      throw std::invalid_argument("meeting_load_factor: profiles of different lengths");
+    for (double c : samples[s].seconds) {
+      if (!std::isfinite(c) || c < 0.0) throw std::invalid_argument("meeting_load_factor: a cost is negative or not finite");
+      total[s] += c;
+    }
+    sum += total[s];
+    of_design[samples[s].design].push_back(s);
+  }
+  const double mean = sum / static_cast<double>(samples.size());
+  const double rounds = static_cast<double>(collection_rounds(environments, ranks, threads));
+  const std::vector<EnvSlice> slices = env_slices(environments, ranks);
+
+  std::mt19937_64 rng(seed);
+  auto pick = [&rng](std::size_t n) { return static_cast<std::size_t>(rng() % n); };
+  std::vector<std::size_t> drawn(environments);
+  std::vector<double> predicted(environments);
+  std::vector<double> load(static_cast<std::size_t>(threads));
+  std::vector<double> rank_sum(slices.size());  // per rank: its time summed over the points
+  std::vector<double> slowest(points);          // per point: the slowest rank's time
+  double sum_lockstep = 0.0, sum_run_ahead = 0.0;
+  for (int d = 0; d < draws; ++d) {
+    for (std::size_t i = 0; i < environments; ++i) {
+      const std::size_t s = pick(samples.size());
+      drawn[i] = s;
+      const std::vector<std::size_t>& same = of_design.at(samples[s].design);
+      if (same.size() < 2) {
+        predicted[i] = mean;
+      } else {  // another sample of the design
+        std::size_t o = same[pick(same.size() - 1)];
+        if (o == s) o = same.back();
+        predicted[i] = total[o];
+      }
+    }
+    const std::vector<std::size_t> order = assign_by_cost(predicted, slices, {});
+    std::fill(rank_sum.begin(), rank_sum.end(), 0.0);
+    std::fill(slowest.begin(), slowest.end(), 0.0);
+    for (std::size_t r = 0; r < slices.size(); ++r) {
+      // This rank's environments at each point, in the order of their previous costs (at the
+      // start: of the predicted totals).
+      std::vector<double> key, now(slices[r].count);
+      for (std::size_t j = slices[r].first; j < slices[r].first + slices[r].count; ++j) key.push_back(predicted[order[j]]);
+      for (std::size_t k = 0; k < points; ++k) {
+        for (std::size_t e = 0; e < now.size(); ++e) now[e] = samples[drawn[order[slices[r].first + e]]].seconds[k];
+        const double t = list_makespan(now, by_decreasing(key), load);
+        rank_sum[r] += t;
+        slowest[k] = std::max(slowest[k], t);
+        key = now;
+      }
+    }
+    const double lockstep = std::accumulate(slowest.begin(), slowest.end(), 0.0);
+    sum_lockstep += lockstep;
+    sum_run_ahead += *std::max_element(rank_sum.begin(), rank_sum.end());
+  }
+  const double norm = static_cast<double>(draws) * rounds * mean;
+  if (norm <= 0.0) return {};
+  return {sum_lockstep / norm, sum_run_ahead / norm};
 }
 
 }  // namespace codesign::cluster

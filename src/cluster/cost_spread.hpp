@@ -46,4 +46,36 @@ struct BusiestLoad {
 BusiestLoad busiest_load_factor(const std::vector<CostSample>& samples, std::size_t environments, int ranks,
                                 int threads, int draws, std::uint64_t seed);
 
+// One environment's settle and step CPU seconds at each meeting point of one iteration, with its
+// design: seconds[0] its start (the settle), seconds[k] its k-th decision's step (a restart's
+// restore of the settled state included).
+struct DecisionCosts {
+  int design = 0;
+  std::vector<double> seconds;
+};
+
+// How much the meeting at every decision costs on top of the iteration totals. The ranks of the
+// MPI backend meet at the start and at every decision (mpi_env_pool.hpp): a decision takes as long
+// as its slowest rank, and a rank's share of a decision varies from one decision to the next
+// (contact comes and goes, restarts) where its share of the iteration varies less. Over `draws`
+// iterations of `environments` profiles drawn at random (with replacement) from `samples`, split
+// over the ranks by assign_by_cost (each environment's iteration total predicted by another sample
+// of its design, as busiest_load_factor does), a rank's time at meeting point k is the makespan of
+// its environments' k-th costs over its threads, which take them in order of the environments'
+// previous costs (the predicted totals at the start), each to the thread free soonest, as
+// ThreadEnvPool does. Then
+//   lockstep  = E[Σ_k max over ranks of the rank's time at k]    (the backend as built)
+//   run_ahead = E[max over ranks of Σ_k the rank's time at k]    (ranks that met only at the
+//                                                                  iteration's end)
+// both over collection_rounds(environments, ranks, threads) · the mean iteration total, the
+// normalisation of busiest_load_factor's F. All costs equal gives 1 for both; one rank gives
+// lockstep == run_ahead. std::invalid_argument for no samples, profiles of different lengths or
+// empty, a negative or non-finite cost, draws < 1, or what env_slice and collection_rounds refuse.
+struct MeetingLoad {
+  double lockstep = 1.0;
+  double run_ahead = 1.0;
+};
+MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::size_t environments, int ranks,
+                                int threads, int draws, std::uint64_t seed);
+
 }  // namespace codesign::cluster

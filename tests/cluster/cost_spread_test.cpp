@@ -1,8 +1,10 @@
 // How much the designs' different costs load the busiest rank (cluster/cost_spread.hpp): 1 when
-// every cost is the same, a hand-enumerated case for both splits, and bad input refused.
+// every cost is the same, a hand-enumerated case for both splits, and bad input refused; the same
+// for the ranks' meeting at every decision (meeting_load_factor).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <stdexcept>
 #include <vector>
 
@@ -13,6 +15,9 @@ namespace {
 using codesign::cluster::busiest_load_factor;
 using codesign::cluster::BusiestLoad;
 using codesign::cluster::CostSample;
+using codesign::cluster::DecisionCosts;
+using codesign::cluster::meeting_load_factor;
+using codesign::cluster::MeetingLoad;
 
 TEST(CostSpread, EqualCostsGiveFactorOne) {
   const std::vector<CostSample> same = {{3, 0.2}, {7, 0.2}, {7, 0.2}, {40, 0.2}};
@@ -66,6 +71,72 @@ TEST(CostSpread, BadInputIsRefused) {
   EXPECT_THROW(busiest_load_factor(ok, 4, 2, 1, 0, 1), std::invalid_argument);
   EXPECT_THROW(busiest_load_factor(ok, 4, 5, 1, 10, 1), std::invalid_argument);  // more ranks than environments
   EXPECT_THROW(busiest_load_factor(ok, 4, 2, 0, 10, 1), std::invalid_argument);  // no thread
+}
+
+// Every environment with the same costs at each point (the points differ): a rank's time at a
+// point is ⌈its environments / threads⌉ times the point's cost, the busiest rank's ⌈⌈ψ/N⌉/t⌉
+// rounds, so both factors are 1 for any split.
+TEST(MeetingLoad, EqualProfilesGiveOne) {
+  const std::vector<double> p = {0.5, 0.1, 0.3, 0.0, 0.2};
+  const std::vector<DecisionCosts> same = {{3, p}, {7, p}, {7, p}, {40, p}};
+  for (int ranks : {1, 2, 3, 16})
+    for (int threads : {1, 2, 3}) {
+      const MeetingLoad m = meeting_load_factor(same, 40, ranks, threads, 50, 1);
+      EXPECT_NEAR(m.lockstep, 1.0, 1e-12) << ranks << " ranks, " << threads << " threads";
+      EXPECT_NEAR(m.run_ahead, 1.0, 1e-12) << ranks << " ranks, " << threads << " threads";
+    }
+}
+
+// Two designs of one sample each: A costs 2 at the first decision, B 2 at the second (both 0 at
+// the start), so each iteration total is 2 and the prediction (the mean, one sample per design)
+// cannot tell them apart. Two environments on two ranks of one thread: a rank's total is always 2,
+// so meeting only at the end takes 2 (run_ahead = 1 exactly, over 1 round · mean 2); meeting at
+// every decision takes max(2, 2) + 0 = 2 when both drew the same design (probability 1/2) and
+// 2 + 2 = 4 when they differ: E = 3, lockstep = 1.5. One rank of two threads: each point's
+// makespan is the larger of the two costs, the same enumeration, and one rank has nothing to
+// meet: both factors 1.5. Monte Carlo tolerance: a draw's time is 2 or 4 (standard deviation 1),
+// so over 40 000 draws 4 standard errors are 4 / 200 = 0.02 s, 0.01 in the factor.
+TEST(MeetingLoad, TwoDesignsOnTwoRanksMatchTheEnumeration) {
+  const std::vector<DecisionCosts> two = {{0, {0.0, 2.0, 0.0}}, {1, {0.0, 0.0, 2.0}}};
+  const MeetingLoad m = meeting_load_factor(two, 2, 2, 1, 40000, 20261205);
+  EXPECT_NEAR(m.lockstep, 1.5, 0.01);
+  EXPECT_DOUBLE_EQ(m.run_ahead, 1.0);
+  const MeetingLoad one = meeting_load_factor(two, 2, 1, 2, 40000, 20261205);
+  EXPECT_NEAR(one.lockstep, 1.5, 0.01);
+  EXPECT_DOUBLE_EQ(one.lockstep, one.run_ahead);
+}
+
+// The maximum of the ranks' sums never exceeds the sum of the per-point maxima: run_ahead ≤
+// lockstep for any costs; on random profiles of 10 designs, 40 environments, 1 to 8 ranks.
+TEST(MeetingLoad, MeetingOnlyAtTheEndIsNeverSlower) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> cost(0.0, 1.0);
+  std::vector<DecisionCosts> samples;
+  for (int k = 0; k < 60; ++k) {
+    DecisionCosts d{k % 10, {}};
+    for (int p = 0; p < 11; ++p) d.seconds.push_back(cost(rng));
+    samples.push_back(d);
+  }
+  for (int ranks : {1, 2, 4, 8})
+    for (int threads : {1, 2}) {
+      const MeetingLoad m = meeting_load_factor(samples, 40, ranks, threads, 200, 3);
+      EXPECT_LE(m.run_ahead, m.lockstep + 1e-12) << ranks << " ranks, " << threads << " threads";
+      if (ranks == 1) {
+        EXPECT_DOUBLE_EQ(m.run_ahead, m.lockstep);
+      }
+    }
+}
+
+TEST(MeetingLoad, BadInputIsRefused) {
+  const std::vector<DecisionCosts> ok = {{0, {1.0, 1.0}}};
+  EXPECT_THROW(meeting_load_factor({}, 4, 2, 1, 10, 1), std::invalid_argument);
+  EXPECT_THROW(meeting_load_factor({{0, {}}}, 4, 2, 1, 10, 1), std::invalid_argument);
+  EXPECT_THROW(meeting_load_factor({{0, {1.0}}, {1, {1.0, 2.0}}}, 4, 2, 1, 10, 1), std::invalid_argument);
+  EXPECT_THROW(meeting_load_factor({{0, {1.0, -1.0}}}, 4, 2, 1, 10, 1), std::invalid_argument);
+  EXPECT_THROW(meeting_load_factor({{0, {std::nan("")}}}, 4, 2, 1, 10, 1), std::invalid_argument);
+  EXPECT_THROW(meeting_load_factor(ok, 4, 2, 1, 0, 1), std::invalid_argument);
+  EXPECT_THROW(meeting_load_factor(ok, 4, 5, 1, 10, 1), std::invalid_argument);
+  EXPECT_THROW(meeting_load_factor(ok, 4, 2, 0, 10, 1), std::invalid_argument);
 }
 
 }  // namespace
