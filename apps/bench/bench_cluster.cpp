@@ -146,8 +146,8 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
                 launch_threads, launch_threads, split.lockstep * rounds_split / (own.lockstep * rounds_one),
                 split.lockstep, split.run_ahead * rounds_split / (own.lockstep * rounds_one), split.run_ahead);
   }
-  std::printf("  ranks | L meeting every decision (built) | L meeting at the iteration's end | run, update on rank 0: "
-              "every decision, iteration's end (c x L / L_1)\n");
+  std::printf("  ranks | L meeting every decision (built) | of it the start's meeting (settles) | L meeting at the "
+              "iteration's end | run, update on rank 0: every decision, iteration's end (c x L / L_1)\n");
   for (int r : {1, 2, 4, 8, 16, 32, 64}) {
     if (static_cast<std::size_t>(r) > psi) break;
     const cluster::MeetingLoad m =
@@ -155,7 +155,7 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
     cluster::ScalingCosts every = c, end = c;
     every.collect_factor = m.lockstep / own.lockstep;
     end.collect_factor = m.run_ahead / own.lockstep;
-    std::printf("  %5d | %32.3f | %32.3f | %8.1f min, %8.1f min\n", r, m.lockstep, m.run_ahead,
+    std::printf("  %5d | %32.3f | %35.3f | %32.3f | %8.1f min, %8.1f min\n", r, m.lockstep, m.start, m.run_ahead,
                 iterations_total * cluster::iteration_seconds(every, r) / 60.0,
                 iterations_total * cluster::iteration_seconds(end, r) / 60.0);
   }

@@ -163,7 +163,7 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
   std::vector<double> load(static_cast<std::size_t>(threads));
   std::vector<double> rank_sum(slices.size());  // per rank: its time summed over the points
   std::vector<double> slowest(points);          // per point: the slowest rank's time
-  double sum_lockstep = 0.0, sum_run_ahead = 0.0;
+  double sum_lockstep = 0.0, sum_run_ahead = 0.0, sum_start = 0.0;
   for (int d = 0; d < draws; ++d) {
     for (std::size_t i = 0; i < environments; ++i) {
       const std::size_t s = pick(samples.size());
@@ -195,11 +195,12 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
     }
     const double lockstep = std::accumulate(slowest.begin(), slowest.end(), 0.0);
     sum_lockstep += lockstep;
+    sum_start += slowest.front();
     sum_run_ahead += *std::max_element(rank_sum.begin(), rank_sum.end());
   }
   const double norm = static_cast<double>(draws) * rounds * mean;
   if (norm <= 0.0) return {};
-  return {sum_lockstep / norm, sum_run_ahead / norm};
+  return {sum_lockstep / norm, sum_run_ahead / norm, sum_start / norm};
 }
 
 }  // namespace codesign::cluster

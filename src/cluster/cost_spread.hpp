@@ -71,9 +71,12 @@ struct DecisionCosts {
 // normalisation of busiest_load_factor's F. All costs equal gives 1 for both; one rank gives
 // lockstep == run_ahead. std::invalid_argument for no samples, profiles of different lengths or
 // empty, a negative or non-finite cost, draws < 1, or what env_slice and collection_rounds refuse.
+// start: E[the slowest rank's time at point 0] in the same normalisation, the share of lockstep
+// spent at the start's meeting (the settles), which depends on the setups alone.
 struct MeetingLoad {
   double lockstep = 1.0;
   double run_ahead = 1.0;
+  double start = 0.0;
 };
 MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::size_t environments, int ranks,
                                 int threads, int draws, std::uint64_t seed);

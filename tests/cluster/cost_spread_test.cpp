@@ -84,6 +84,9 @@ TEST(MeetingLoad, EqualProfilesGiveOne) {
       const MeetingLoad m = meeting_load_factor(same, 40, ranks, threads, 50, 1);
       EXPECT_NEAR(m.lockstep, 1.0, 1e-12) << ranks << " ranks, " << threads << " threads";
       EXPECT_NEAR(m.run_ahead, 1.0, 1e-12) << ranks << " ranks, " << threads << " threads";
+      // The busiest rank's busiest thread holds `rounds` environments at every point, the start
+      // included: rounds · 0.5 over rounds · 1.1.
+      EXPECT_NEAR(m.start, 0.5 / 1.1, 1e-12) << ranks << " ranks, " << threads << " threads";
     }
 }
 
@@ -104,6 +107,22 @@ TEST(MeetingLoad, TwoDesignsOnTwoRanksMatchTheEnumeration) {
   const MeetingLoad one = meeting_load_factor(two, 2, 1, 2, 40000, 20261205);
   EXPECT_NEAR(one.lockstep, 1.5, 0.01);
   EXPECT_DOUBLE_EQ(one.lockstep, one.run_ahead);
+  EXPECT_DOUBLE_EQ(m.start, 0.0);  // both start at no cost
+}
+
+// The start's share: A costs 1 at the start and 1 at the decision, B 3 and 1 (totals 2 and 4,
+// mean 3). Two environments on two ranks of one thread: the start's meeting takes 1 when both drew
+// A (probability 1/4), else 3: E = 2.5, start = 2.5 / (1 round · 3) = 5/6; the decision always
+// takes 1, so lockstep = 3.5 / 3 = 7/6; meeting at the end takes the larger total, 2 or 4 with
+// the same probabilities: 7/6 too. Tolerance: the start's time lies in [1, 3] (standard deviation
+// at most 1), so 4 standard errors over 40 000 draws are 0.02 s, 0.007 in the factor.
+TEST(MeetingLoad, TheStartsShareMatchesTheEnumeration) {
+  const std::vector<DecisionCosts> two = {{0, {1.0, 1.0}}, {1, {3.0, 1.0}}};
+  const MeetingLoad m = meeting_load_factor(two, 2, 2, 1, 40000, 20261206);
+  EXPECT_NEAR(m.start, 5.0 / 6.0, 0.007);
+  EXPECT_NEAR(m.lockstep, 7.0 / 6.0, 0.007);
+  EXPECT_NEAR(m.run_ahead, 7.0 / 6.0, 0.007);
+  EXPECT_NEAR(m.lockstep - m.start, 1.0 / 3.0, 1e-12);  // every draw's decision takes exactly 1
 }
 
 // The maximum of the ranks' sums never exceeds the sum of the per-point maxima: run_ahead ≤
