@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
@@ -50,6 +51,16 @@ std::vector<std::size_t> by_decreasing(const std::vector<double>& key) {
   std::vector<std::size_t> o(key.size());
   std::iota(o.begin(), o.end(), std::size_t{0});
   std::stable_sort(o.begin(), o.end(), [&](std::size_t a, std::size_t b) { return key[a] > key[b]; });
+  return o;
+}
+
+// The index of another sample of the same design as sample s (the design's cost in another
+// iteration, as the backend predicts it), drawn with `pick`; none when the design has one sample.
+template <class Pick>
+std::optional<std::size_t> another_sample_of_design(const std::vector<std::size_t>& same, std::size_t s, Pick& pick) {
+  if (same.size() < 2) return std::nullopt;
+  std::size_t o = same[pick(same.size() - 1)];
+  if (o == s) o = same.back();
   return o;
 }
 
@@ -116,14 +127,8 @@ BusiestLoad busiest_load_factor(const std::vector<CostSample>& samples, std::siz
     for (std::size_t i = 0; i < environments; ++i) {
       const std::size_t s = pick(samples.size());
       actual[i] = samples[s].seconds;
-      const std::vector<std::size_t>& same = of_design.at(samples[s].design);
-      if (same.size() < 2) {
-        predicted[i] = mean;
-      } else {  // another sample of the design
-        std::size_t o = same[pick(same.size() - 1)];
-        if (o == s) o = same.back();
-        predicted[i] = samples[o].seconds;
-      }
+      const std::optional<std::size_t> o = another_sample_of_design(of_design.at(samples[s].design), s, pick);
+      predicted[i] = o ? samples[*o].seconds : mean;
     }
     sum_contiguous += busiest(actual, identity, slices, threads);
     sum_by_cost += busiest(actual, assign_by_cost(predicted, slices, {}), slices, threads);
@@ -168,14 +173,8 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
     for (std::size_t i = 0; i < environments; ++i) {
       const std::size_t s = pick(samples.size());
       drawn[i] = s;
-      const std::vector<std::size_t>& same = of_design.at(samples[s].design);
-      if (same.size() < 2) {
-        predicted[i] = mean;
-      } else {  // another sample of the design
-        std::size_t o = same[pick(same.size() - 1)];
-        if (o == s) o = same.back();
-        predicted[i] = total[o];
-      }
+      const std::optional<std::size_t> o = another_sample_of_design(of_design.at(samples[s].design), s, pick);
+      predicted[i] = o ? total[*o] : mean;
     }
     const std::vector<std::size_t> order = assign_by_cost(predicted, slices, {});
     std::fill(rank_sum.begin(), rank_sum.end(), 0.0);
