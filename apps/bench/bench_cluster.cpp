@@ -120,6 +120,7 @@ struct BenchClusterOptions {
   int model_threads = 0;
   int exchanges = 200;
   bool contiguous = false;
+  bool lockstep = false;
   int spread_draws = 4000;
 };
 
@@ -127,7 +128,7 @@ struct BenchClusterOptions {
 // one-process launch's per-decision costs. The model's c was measured with this launch's own
 // meetings (one rank of `launch_threads` threads), so a projection scales it by L_N / L_1.
 void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cluster::ScalingCosts& c,
-                    double iterations_total, int launch_threads, const BenchClusterOptions& o) {
+                    double iterations_total, int launch_threads, bool whole_rollouts, const BenchClusterOptions& o) {
   const std::size_t psi = c.environments;
   const std::uint64_t seed = 20261205;
   const cluster::MeetingLoad own = cluster::meeting_load_factor(samples, psi, 1, launch_threads, o.spread_draws, seed);
@@ -146,7 +147,13 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
                 launch_threads, launch_threads, split.lockstep * rounds_split / (own.lockstep * rounds_one),
                 split.lockstep, split.run_ahead * rounds_split / (own.lockstep * rounds_one), split.run_ahead);
   }
-  std::printf("  ranks | L meeting every decision (built) | of it the start's meeting (settles) | L meeting at the "
+  // Which meeting a run of this config has under mpirun (MpiEnvPool::rollout, codesign/run_ahead.hpp).
+  std::printf("  under mpirun this config's rollouts %s\n",
+              whole_rollouts ? "run whole on each rank: the ranks meet at the iteration's end (the 'iteration's end' "
+                               "columns)"
+                             : "go step by step (a recurrent policy or observation statistics): the ranks meet at every "
+                               "decision (the 'every decision' columns)");
+  std::printf("  ranks | L meeting every decision | of it the start's meeting (settles) | L meeting at the "
               "iteration's end | run, update on rank 0: every decision, iteration's end (c x L / L_1)\n");
   for (int r : {1, 2, 4, 8, 16, 32, 64}) {
     if (static_cast<std::size_t>(r) > psi) break;
@@ -158,6 +165,13 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
     std::printf("  %5d | %32.3f | %35.3f | %32.3f | %8.1f min, %8.1f min\n", r, m.lockstep, m.start, m.run_ahead,
                 iterations_total * cluster::iteration_seconds(every, r) / 60.0,
                 iterations_total * cluster::iteration_seconds(end, r) / 60.0);
+    if (r == 16) {
+      const double run16 = iterations_total * cluster::iteration_seconds(whole_rollouts ? end : every, r) / 60.0;
+      std::printf("  goal (issue 20 §3), the meeting counted: the run in <= 5 min on 16 ranks x %d thread(s): %.1f min "
+                  "(%s): %s\n",
+                  c.threads_per_rank, run16, whole_rollouts ? "whole rollouts on the ranks" : "step by step",
+                  run16 <= 5.0 ? "met" : "NOT met");
+    }
   }
 }
 
@@ -172,6 +186,7 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   std::unique_ptr<core::EnvPool> envs = run::make_rollout_pool(sims, lc, static_cast<std::size_t>(o.threads), ranks);
   auto* mpi_pool = dynamic_cast<cluster::MpiEnvPool*>(envs.get());
   if (mpi_pool) mpi_pool->set_share_by_cost(!o.contiguous);
+  if (mpi_pool) mpi_pool->set_run_ahead(!o.lockstep);
   DecisionCostRecorder* recorder = nullptr;  // one process: each decision's costs, for the meetings
   if (!mpi_pool) {
     auto r = std::make_unique<DecisionCostRecorder>(std::move(envs));
@@ -212,11 +227,20 @@ int run_bench_cluster(const BenchClusterOptions& o) {
 
   // One exchange of a step's shape with one rank: the actions of the largest slice of a 2-rank
   // split out, its step results back (rewards, flags, observations, terminal observations).
+  // With whole rollouts on the ranks (the warm-up ran some: MpiEnvPool::rollouts), one exchange
+  // per iteration of that shape instead: the policy's parameters and the rollout's normal draws
+  // out (broadcast in a run; sent to each rank in turn here, so no cheaper), the slice's record back.
   double exchange = 0.0;
+  const bool ran_ahead = mpi_pool && mpi_pool->rollouts() > 0;
   if (ranks > 1) {
     const std::size_t slice = cluster::env_slice(static_cast<std::size_t>(psi), 0, 2).count;
     const std::size_t obs = pool->spec().observation.dim(), act = pool->spec().action.dim();
-    exchange = cluster::time_exchanges(ranks, slice * act, slice * (5 + 2 * obs), o.exchanges);
+    const auto params = static_cast<std::size_t>(loop.model().actor().params().size() +
+                                                 loop.model().critic().params().size() + loop.model().log_std().size());
+    const auto steps = static_cast<std::size_t>(n_steps);
+    exchange = ran_ahead ? cluster::time_exchanges(ranks, params / 2 + steps * act * static_cast<std::size_t>(psi),
+                                                   steps * slice * ((obs + act + 3) / 2 + 3) + slice, o.exchanges)
+                         : cluster::time_exchanges(ranks, slice * act, slice * (5 + 2 * obs), o.exchanges);
   }
 
   const double settle0 = pool->settle_seconds(), step0 = pool->step_seconds(), build0 = pool->build_seconds();
@@ -224,6 +248,8 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   const int starts0 = mpi_pool ? mpi_pool->starts() : 0, moved0 = mpi_pool ? mpi_pool->reassigned_starts() : 0;
   const double start_wait0 = mpi_pool ? mpi_pool->start_wait_seconds() : 0.0;
   const double step_wait0 = mpi_pool ? mpi_pool->step_wait_seconds() : 0.0;
+  const double rollout_wait0 = mpi_pool ? mpi_pool->rollout_wait_seconds() : 0.0;
+  const int rollouts0 = mpi_pool ? mpi_pool->rollouts() : 0;
   double collect = 0.0, update = 0.0, dist = 0.0, policy = 0.0, imbalance = 0.0, imbalance_s = 0.0;
   std::size_t restarts = 0;  // episodes that ended before the rollout's last step and so restarted
   const MachineTimes m0 = machine_times();
@@ -251,7 +277,8 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   const double n = o.iterations;
   // The collection wall of one environment in one round of the busiest rank's threads: this
   // launch's collection less its policy inference and its messages, over its rounds.
-  const double messages = (ranks - 1) * (n_steps + 1) * exchange;
+  const int exchanges = ran_ahead ? 1 : n_steps + 1;
+  const double messages = (ranks - 1) * exchanges * exchange;
   const double env_wall =
       std::max(0.0, collect / n - policy / n - messages) /
       static_cast<double>(cluster::collection_rounds(static_cast<std::size_t>(psi), ranks, static_cast<int>(threads)));
@@ -277,14 +304,19 @@ int run_bench_cluster(const BenchClusterOptions& o) {
                 (mpi_pool->start_wait_seconds() - start_wait0 + mpi_pool->step_wait_seconds() - step_wait0) / o.iterations,
                 (mpi_pool->start_wait_seconds() - start_wait0) / o.iterations,
                 (mpi_pool->step_wait_seconds() - step_wait0) / o.iterations);
+  if (mpi_pool)
+    std::printf("  whole rollouts on the ranks (meeting once per iteration): %d of %d timed iterations%s; rank 0 idle "
+                "waiting for the other ranks' records after its own share: %.3f s per iteration\n",
+                mpi_pool->rollouts() - rollouts0, o.iterations, o.lockstep ? " (--lockstep)" : "",
+                (mpi_pool->rollout_wait_seconds() - rollout_wait0) / o.iterations);
   if (m1.busy + m1.idle > 0.0)
     std::printf("  the machine over the timed iterations (/proc/stat, every process): %.3f core-s busy, %.3f idle, %.3f "
                 "stolen by the hypervisor per iteration; busy beyond the settles and FEM steps: %.3f core-s\n",
                 (m1.busy - m0.busy) / n, (m1.idle - m0.idle) / n, (m1.stolen - m0.stolen) / n,
                 (m1.busy - m0.busy) / n - env_cpu * psi);
   if (ranks > 1)
-    std::printf("  one exchange rank 0 <-> one rank (a step's shape, mean of %d rounds over %d ranks): %.1f us\n",
-                o.exchanges, ranks - 1, 1e6 * exchange);
+    std::printf("  one exchange rank 0 <-> one rank (%s, mean of %d rounds over %d ranks): %.1f us\n",
+                ran_ahead ? "a whole rollout's shape" : "a step's shape", o.exchanges, ranks - 1, 1e6 * exchange);
   else
     std::printf("  exchange cost not measured (one process; run under mpirun -np 2 for it): the model's message "
                 "term is 0\n");
@@ -293,7 +325,7 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   c.environments = static_cast<std::size_t>(psi);
   c.threads_per_rank = o.model_threads > 0 ? o.model_threads : static_cast<int>(threads);
   c.env_collect_s = env_wall;
-  c.exchanges = n_steps + 1;
+  c.exchanges = exchanges;
   c.exchange_s = exchange;
   c.update_s = update / n;
   // Policy inference runs on rank 0 while the ranks wait; it is part of the collection's wall.
@@ -352,7 +384,9 @@ int run_bench_cluster(const BenchClusterOptions& o) {
               "model's floor is %.1f min\n",
               c.update_s + c.policy_s + c.distribution_s,
               iterations_total * (c.update_s + c.policy_s + c.distribution_s + c.env_collect_s) / 60.0);
-  if (!decision_costs.empty()) print_meetings(decision_costs, c, iterations_total, static_cast<int>(threads), o);
+  const bool whole_rollouts = lc.ppo.policy == rl::PolicyKind::Mlp && !lc.ppo.normalize_observations;
+  if (!decision_costs.empty())
+    print_meetings(decision_costs, c, iterations_total, static_cast<int>(threads), whole_rollouts, o);
   else
     std::printf("bench cluster: the meetings at every decision are simulated from a one-process launch's decision "
                 "costs (not recorded under mpirun)\n");
@@ -373,6 +407,9 @@ void add_bench_cluster_command(CLI::App& bench, Runner& run) {
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--contiguous", opt->contiguous,
                "under mpirun: keep the contiguous slices of environments, not shared out by cost (to compare)");
+  cmd->add_flag("--lockstep", opt->lockstep,
+               "under mpirun: step the rollouts decision by decision across the ranks, not whole rollouts on each "
+               "rank (to compare; results are the same)");
   cmd->add_option("--exchanges", opt->exchanges, "rounds of the exchange timing (default 200)")->check(CLI::Range(1, 1000000));
   cmd->callback([opt, &run] { run = [opt] { return run_bench_cluster(*opt); }; });
 }

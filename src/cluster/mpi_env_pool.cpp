@@ -21,7 +21,10 @@ namespace {
 
 // Rank 0 -> rank r: a command header {command, flag}, then its payload (if any), all tag kCommand
 // or kPayload; rank r -> rank 0: the reply (kReply) and, after a step, the end reasons (kReasons).
-enum Command : int { kStop = 0, kStart = 1, kStep = 2, kTimes = 3, kPing = 4, kCosts = 5 };
+// After kRollout rank r gets two payloads (its setups; gamma, the batch's width and its places),
+// then two broadcasts from rank 0 (the parameters, the normal draws); it answers with its record
+// (kTagReply: floats, then doubles; kTagReasons).
+enum Command : int { kStop = 0, kStart = 1, kStep = 2, kTimes = 3, kPing = 4, kCosts = 5, kRollout = 6 };
 constexpr int kTagCommand = 101, kTagPayload = 102, kTagReply = 103, kTagReasons = 104;
 
 void check(int rc, const char* what) {
@@ -73,6 +76,18 @@ std::vector<double> recv_doubles(std::size_t n, int from, int tag) {
   return v;
 }
 
+std::vector<float> recv_floats(std::size_t n, int from, int tag) {
+  std::vector<float> v(n);
+  MPI_Status st;
+  recv_into(v.data(), static_cast<int>(n), MPI_FLOAT, from, tag, &st, "receive");
+  int got = 0;
+  MPI_Get_count(&st, MPI_FLOAT, &got);
+  if (static_cast<std::size_t>(got) != n)
+    throw std::runtime_error("MPI rollout backend: a message of " + std::to_string(got) + " numbers where " +
+                             std::to_string(n) + " were expected");
+  return v;
+}
+
 void send_command(int to, Command c, int flag) {
   const int header[2] = {c, flag};
   check(MPI_Send(header, 2, MPI_INT, to, kTagCommand, MPI_COMM_WORLD), "send a command");
@@ -94,6 +109,40 @@ std::vector<double> columns(const Eigen::MatrixXd& m, EnvSlice s) {
   std::vector<double> v(static_cast<std::size_t>(m.rows()) * s.count);
   Eigen::Map<Eigen::MatrixXd>(v.data(), m.rows(), static_cast<Eigen::Index>(s.count)) =
       m.middleCols(static_cast<Eigen::Index>(s.first), static_cast<Eigen::Index>(s.count));
+  return v;
+}
+
+// The policy's parameters as one array: the actor's, the critic's, then log σ.
+std::vector<float> model_params(const rl::ActorCritic& m) {
+  std::vector<float> v;
+  for (const Eigen::VectorXf* p : {&m.actor().params(), &m.critic().params(), &m.log_std()})
+    v.insert(v.end(), p->data(), p->data() + p->size());
+  return v;
+}
+
+void set_model_params(rl::ActorCritic& m, const std::vector<float>& v) {
+  std::size_t at = 0;
+  for (Eigen::VectorXf* p : {&m.actor().params(), &m.critic().params(), &m.log_std()}) {
+    if (at + static_cast<std::size_t>(p->size()) > v.size()) break;
+    *p = Eigen::Map<const Eigen::VectorXf>(v.data() + at, p->size());
+    at += static_cast<std::size_t>(p->size());
+  }
+  if (at != v.size()) throw std::runtime_error("MPI rollout backend: the policy's parameters do not fit this rank's model");
+}
+
+std::size_t param_count(const rl::ActorCritic& m) {
+  return static_cast<std::size_t>(m.actor().params().size() + m.critic().params().size() + m.log_std().size());
+}
+
+// normals[k] (a x width each) as one array, decision after decision.
+std::vector<double> flat_normals(const std::vector<Eigen::MatrixXd>& normals, std::size_t a, std::size_t width) {
+  std::vector<double> v;
+  v.reserve(normals.size() * a * width);
+  for (const Eigen::MatrixXd& z : normals) {
+    if (z.rows() != static_cast<Eigen::Index>(a) || z.cols() != static_cast<Eigen::Index>(width))
+      throw std::invalid_argument("MpiEnvPool::rollout: each decision's normals must be act_dim x environments");
+    v.insert(v.end(), z.data(), z.data() + z.size());
+  }
   return v;
 }
 
@@ -161,7 +210,7 @@ void MpiEnvPool::learn_costs() {
     if (count[d] > 0.0) design_cost_[d] = sum[d] / count[d];
 }
 
-Eigen::MatrixXd MpiEnvPool::start(const std::vector<core::EpisodeSetup>& setups) {
+std::vector<core::EpisodeSetup> MpiEnvPool::assign(const std::vector<core::EpisodeSetup>& setups) {
   if (setups.size() != n_envs_) throw std::invalid_argument("MpiEnvPool::start: one setup per environment");
   if (starts_ > 0) learn_costs();
   // Predicted cost of each environment: its design's last cost; designs not yet stepped, the mean
@@ -182,7 +231,11 @@ Eigen::MatrixXd MpiEnvPool::start(const std::vector<core::EpisodeSetup>& setups)
   std::vector<core::EpisodeSetup> placed(n_envs_);
   for (std::size_t j = 0; j < n_envs_; ++j) placed[j] = setups[order_[j]];
   for (std::size_t i = 0; i < n_envs_; ++i) design_of_[i] = setups[i].design;
+  return placed;
+}
 
+Eigen::MatrixXd MpiEnvPool::start(const std::vector<core::EpisodeSetup>& setups) {
+  const std::vector<core::EpisodeSetup> placed = assign(setups);
   for (int r = 1; r < ranks_; ++r) {
     send_command(r, kStart, 0);
     send_doubles(pack_setups(placed, slices_[r].first, slices_[r].count), r, kTagPayload);
@@ -253,6 +306,48 @@ const rl::VecStepResult& MpiEnvPool::step(const Eigen::MatrixXd& actions, bool r
   return result_;
 }
 
+core::ShareRollout MpiEnvPool::rollout(const std::vector<core::EpisodeSetup>& setups, const rl::ActorCritic& model,
+                                       const std::vector<Eigen::MatrixXd>& normals, double gamma) {
+  const std::vector<core::EpisodeSetup> placed = assign(setups);
+  const int n_steps = static_cast<int>(normals.size());
+  const std::size_t d = spec().observation.dim(), a = spec().action.dim();
+  const auto places_of = [&](const EnvSlice& sl) {
+    return std::vector<std::size_t>(order_.begin() + static_cast<std::ptrdiff_t>(sl.first),
+                                    order_.begin() + static_cast<std::ptrdiff_t>(sl.first + sl.count));
+  };
+  for (int r = 1; r < ranks_; ++r) {
+    send_command(r, kRollout, n_steps);
+    send_doubles(pack_setups(placed, slices_[r].first, slices_[r].count), r, kTagPayload);
+    std::vector<double> where{gamma, static_cast<double>(n_envs_)};
+    for (std::size_t p : places_of(slices_[r])) where.push_back(static_cast<double>(p));
+    send_doubles(where, r, kTagPayload);
+  }
+  if (ranks_ > 1) {
+    std::vector<float> params = model_params(model);
+    check(MPI_Bcast(params.data(), static_cast<int>(params.size()), MPI_FLOAT, 0, MPI_COMM_WORLD), "broadcast the policy");
+    std::vector<double> z = flat_normals(normals, a, n_envs_);
+    check(MPI_Bcast(z.data(), static_cast<int>(z.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD), "broadcast the draws");
+  }
+  ++rollouts_;
+  const std::vector<core::EpisodeSetup> mine(placed.begin(), placed.begin() + static_cast<std::ptrdiff_t>(slices_[0].count));
+  const std::vector<std::size_t> my_places = places_of(slices_[0]);
+  core::ShareRollout all = core::empty_share(n_steps, n_envs_, d, a);
+  const core::ShareRollout own = core::run_share(*local_, mine, model, cache_, my_places, n_envs_, normals, gamma);
+  core::place_share(own, my_places, all);
+  all.policy_s = own.policy_s;
+  const auto waiting = std::chrono::steady_clock::now();
+  for (int r = 1; r < ranks_; ++r) {
+    const std::size_t w = slices_[r].count;
+    PackedShare p;
+    p.floats = recv_floats(static_cast<std::size_t>(n_steps) * w * (d + a + 3) + w, r, kTagReply);
+    p.doubles = recv_doubles(static_cast<std::size_t>(n_steps) * w * 3 + 1, r, kTagReply);
+    p.reasons = recv_string(r, kTagReasons);
+    core::place_share(unpack_share(p, n_steps, w, d, a), places_of(slices_[r]), all);
+  }
+  rollout_wait_s_ += seconds_since(waiting);
+  return all;
+}
+
 // The settle, step and build CPU seconds of ranks 1.. (one query each).
 std::array<double, 3> MpiEnvPool::remote_seconds() const {
   std::array<double, 3> sum{0.0, 0.0, 0.0};
@@ -297,8 +392,9 @@ double time_exchanges(int ranks, std::size_t out_doubles, std::size_t in_doubles
   return (MPI_Wtime() - t0) / (static_cast<double>(repeats) * (ranks - 1));
 }
 
-void serve_env_pool(core::ThreadEnvPool& local) {
+void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model) {
   const std::size_t n = local.size(), a = local.spec().action.dim();
+  rl::ActorCritic::InferenceCache cache;
   for (;;) {
     int header[2] = {0, 0};
     recv_into(header, 2, MPI_INT, 0, kTagCommand, MPI_STATUS_IGNORE, "receive a command");
@@ -322,6 +418,32 @@ void serve_env_pool(core::ThreadEnvPool& local) {
         send_doubles(pack_step(r, in_band), 0, kTagReply);
         const std::string reasons = join_reasons(r.reasons);
         check(MPI_Send(reasons.data(), static_cast<int>(reasons.size()), MPI_CHAR, 0, kTagReasons, MPI_COMM_WORLD),
+              "send the end reasons");
+        break;
+      }
+      case kRollout: {
+        const int n_steps = header[1];
+        const std::vector<core::EpisodeSetup> setups = unpack_setups(recv_doubles(n * kSetupFields, 0, kTagPayload));
+        const std::vector<double> where = recv_doubles(2 + n, 0, kTagPayload);
+        const auto width = static_cast<std::size_t>(where[1]);
+        std::vector<std::size_t> places;
+        for (std::size_t j = 0; j < n; ++j) places.push_back(static_cast<std::size_t>(where[2 + j]));
+        if (!model) throw std::runtime_error("MPI rollout backend: a whole rollout asked of a rank without a feed-forward model");
+        std::vector<float> params(param_count(*model));
+        check(MPI_Bcast(params.data(), static_cast<int>(params.size()), MPI_FLOAT, 0, MPI_COMM_WORLD), "receive the policy");
+        set_model_params(*model, params);
+        if (n_steps < 1 || width < n) throw std::runtime_error("MPI rollout backend: a rollout of no decisions or too few columns");
+        std::vector<double> z(static_cast<std::size_t>(n_steps) * a * width);
+        check(MPI_Bcast(z.data(), static_cast<int>(z.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD), "receive the draws");
+        std::vector<Eigen::MatrixXd> normals;
+        for (int k = 0; k < n_steps; ++k)
+          normals.emplace_back(Eigen::Map<const Eigen::MatrixXd>(z.data() + static_cast<std::size_t>(k) * a * width,
+                                                                 static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(width)));
+        const PackedShare p = pack_share(core::run_share(local, setups, *model, cache, places, width, normals, where[0]));
+        check(MPI_Send(p.floats.data(), static_cast<int>(p.floats.size()), MPI_FLOAT, 0, kTagReply, MPI_COMM_WORLD),
+              "send the rollout");
+        send_doubles(p.doubles, 0, kTagReply);
+        check(MPI_Send(p.reasons.data(), static_cast<int>(p.reasons.size()), MPI_CHAR, 0, kTagReasons, MPI_COMM_WORLD),
               "send the end reasons");
         break;
       }

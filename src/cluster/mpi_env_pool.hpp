@@ -15,6 +15,11 @@
 //   step(actions):  rank 0 sends each rank its share's action columns, steps its own share
 //                   meanwhile, then receives each share's rewards, end flags, in-band counts,
 //                   observations, terminal observations and end reasons.
+//   rollout(...):   (run_ahead.hpp; the co-design's feed-forward rollouts without observation
+//                   statistics) after the same assignment as start(), each rank gets its share's
+//                   setups and places, then the policy's parameters and the rollout's normal draws
+//                   (two broadcasts); every rank, rank 0 included, runs its environments' whole
+//                   rollout and the ranks meet once, when each sends rank 0 its record.
 // Every environment owns its state, draws no random numbers and starts each iteration afresh
 // (env_pool.hpp), and doubles cross the wire bit for bit, so a run gives the same results on any
 // number of ranks and threads per rank, whichever rank steps which environment. Live telemetry of
@@ -27,12 +32,14 @@
 
 #include "cluster/env_assignment.hpp"
 #include "codesign/env_pool.hpp"
+#include "codesign/run_ahead.hpp"
+#include "rl/actor_critic.hpp"
 
 namespace codesign::cluster {
 
 // Rank 0's pool. `local` holds env_slice(n_envs, 0, ranks).count environments; ranks 1..ranks-1
 // must be in serve_env_pool with pools of their slices' sizes. The destructor tells them to stop.
-class MpiEnvPool final : public core::EnvPool {
+class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
  public:
   MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n_envs, int ranks);
   ~MpiEnvPool() override;
@@ -55,6 +62,16 @@ class MpiEnvPool final : public core::EnvPool {
   // side by side, as with `--threads 2` in one process. Results do not change (env_pool.hpp).
   rl::ThreadPool* thread_pool() override { return update_pool_ ? update_pool_.get() : local_->thread_pool(); }
   int ranks() const { return ranks_; }
+  // Whole rollouts on the ranks (RunAhead), on by default; off: every rollout goes step by step,
+  // meeting at every decision (for the bench's comparison). Results are the same either way.
+  core::RunAhead* run_ahead() override { return run_ahead_ ? this : nullptr; }
+  void set_run_ahead(bool on) { run_ahead_ = on; }
+  core::ShareRollout rollout(const std::vector<core::EpisodeSetup>& setups, const rl::ActorCritic& model,
+                             const std::vector<Eigen::MatrixXd>& normals, double gamma) override;
+  // Rollouts run on the ranks so far (RunAhead::rollout), and the wall seconds rank 0 waited for
+  // the other ranks' records after its own share was done.
+  int rollouts() const { return rollouts_; }
+  double rollout_wait_seconds() const { return rollout_wait_s_; }
   // Off: every start keeps the contiguous slices (env_slice), as before the costs were used; for
   // the bench's comparison of the two. On by default.
   void set_share_by_cost(bool on) { share_by_cost_ = on; }
@@ -72,6 +89,8 @@ class MpiEnvPool final : public core::EnvPool {
  private:
   std::array<double, 3> remote_seconds() const;  // settle, step, build: ranks 1..
   void learn_costs();  // from the iteration just ended, into design_cost_
+  // The assignment of a start (learn_costs, assign_by_cost into order_): the setups in place order.
+  std::vector<core::EpisodeSetup> assign(const std::vector<core::EpisodeSetup>& setups);
 
   std::unique_ptr<core::ThreadEnvPool> local_;
   std::unique_ptr<rl::ThreadPool> update_pool_;  // null when local_ has two threads or more
@@ -89,8 +108,10 @@ class MpiEnvPool final : public core::EnvPool {
   std::vector<int> placed_in_band_;
   Eigen::MatrixXd placed_actions_;
   bool share_by_cost_ = true;
-  int starts_ = 0, reassigned_ = 0;
-  double start_wait_s_ = 0.0, step_wait_s_ = 0.0;
+  bool run_ahead_ = true;
+  int starts_ = 0, reassigned_ = 0, rollouts_ = 0;
+  double start_wait_s_ = 0.0, step_wait_s_ = 0.0, rollout_wait_s_ = 0.0;
+  rl::ActorCritic::InferenceCache cache_;  // rank 0's forward passes in rollout()
 };
 
 // On rank 0, while ranks 1..ranks-1 are in serve_env_pool: the mean wall time of one exchange of a
@@ -100,8 +121,9 @@ class MpiEnvPool final : public core::EnvPool {
 double time_exchanges(int ranks, std::size_t out_doubles, std::size_t in_doubles, int repeats);
 
 // Ranks 1..: answers rank 0's calls with `local` (the environments of env_slice(n_envs, rank,
-// ranks)) until rank 0's pool is destroyed. Throws std::runtime_error if a message fails or does
-// not fit the slice.
-void serve_env_pool(core::ThreadEnvPool& local);
+// ranks)) until rank 0's pool is destroyed. `model`: a feed-forward model of the run's shape, whose
+// parameters each rollout() overwrites (null: the run has none, and a rollout() is refused).
+// Throws std::runtime_error if a message fails or does not fit the slice.
+void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model = nullptr);
 
 }  // namespace codesign::cluster

@@ -1,5 +1,6 @@
 #include "cluster/rollout_messages.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -110,6 +111,77 @@ std::vector<std::string> split_reasons(const std::string& s, std::size_t n) {
   if (n == 0 ? !s.empty() : out.back().find('\n') != std::string::npos)
     throw std::invalid_argument("split_reasons: more reasons than environments");
   return out;
+}
+
+namespace {
+
+template <class V>
+void append(std::vector<float>& out, const V& m) {
+  out.insert(out.end(), m.data(), m.data() + m.size());
+}
+
+template <class V>
+void take(const std::vector<float>& in, std::size_t& at, V& m) {
+  std::copy(in.begin() + static_cast<std::ptrdiff_t>(at), in.begin() + static_cast<std::ptrdiff_t>(at + m.size()),
+            m.data());
+  at += static_cast<std::size_t>(m.size());
+}
+
+}  // namespace
+
+PackedShare pack_share(const core::ShareRollout& share) {
+  PackedShare p;
+  std::vector<std::string> reasons;
+  for (const core::RolloutStepColumns& s : share.steps) {
+    append(p.floats, s.obs);
+    append(p.floats, s.actions);
+    append(p.floats, s.values);
+    append(p.floats, s.log_probs);
+    append(p.floats, s.rewards);
+    for (std::size_t j = 0; j < s.done.size(); ++j) {
+      p.doubles.push_back(s.raw_rewards(static_cast<Eigen::Index>(j)));
+      p.doubles.push_back(s.done[j] ? 1.0 : 0.0);
+      p.doubles.push_back(static_cast<double>(s.in_band[j]));
+    }
+    reasons.insert(reasons.end(), s.reasons.begin(), s.reasons.end());
+  }
+  append(p.floats, share.last_values);
+  p.doubles.push_back(share.policy_s);
+  p.reasons = join_reasons(reasons);
+  return p;
+}
+
+core::ShareRollout unpack_share(const PackedShare& p, int n_steps, std::size_t n, std::size_t obs_dim,
+                                std::size_t act_dim) {
+  core::ShareRollout share = core::empty_share(n_steps, n, obs_dim, act_dim);
+  const auto steps = static_cast<std::size_t>(n_steps);
+  if (p.floats.size() != steps * n * (obs_dim + act_dim + 3) + n || p.doubles.size() != steps * n * 3 + 1)
+    throw std::invalid_argument("unpack_share: a rollout message of " + std::to_string(p.floats.size()) + " floats and " +
+                                std::to_string(p.doubles.size()) + " doubles does not fit " + std::to_string(n_steps) +
+                                " decisions of " + std::to_string(n) + " environments");
+  const std::vector<std::string> reasons = split_reasons(p.reasons, steps * n);
+  std::size_t at = 0, d = 0;
+  for (std::size_t k = 0; k < steps; ++k) {
+    core::RolloutStepColumns& s = share.steps[k];
+    take(p.floats, at, s.obs);
+    take(p.floats, at, s.actions);
+    take(p.floats, at, s.values);
+    take(p.floats, at, s.log_probs);
+    take(p.floats, at, s.rewards);
+    for (std::size_t j = 0; j < n; ++j) {
+      s.raw_rewards(static_cast<Eigen::Index>(j)) = p.doubles[d++];
+      const double done = p.doubles[d++], in_band = p.doubles[d++];
+      if (done != 0.0 && done != 1.0) throw std::invalid_argument("unpack_share: an end flag that is neither 0 nor 1");
+      if (!(std::fabs(in_band) <= 1e9) || in_band != std::floor(in_band))
+        throw std::invalid_argument("unpack_share: an in-band count that is not an integer");
+      s.done[j] = done == 1.0 ? 1 : 0;
+      s.in_band[j] = static_cast<int>(in_band);
+      s.reasons[j] = reasons[k * n + j];
+    }
+  }
+  take(p.floats, at, share.last_values);
+  share.policy_s = p.doubles[d];
+  return share;
 }
 
 }  // namespace codesign::cluster

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "codesign/run_ahead.hpp"
 #include "codesign/whisker_env.hpp"
 #include "rl/vec_env.hpp"
 
@@ -35,5 +36,20 @@ void unpack_step(const std::vector<double>& v, std::size_t obs_dim, std::size_t 
 // a newline, or a string with another number of reasons).
 std::string join_reasons(const std::vector<std::string>& reasons);
 std::vector<std::string> split_reasons(const std::string& s, std::size_t n);
+
+// A rank's whole rollout (run_ahead.hpp) as three messages: its floats (per decision the
+// observations, actions, values, log-probabilities and bootstrapped rewards; then the last values),
+// its doubles (per decision and environment the raw reward, the end flag and the in-band count;
+// then the policy's seconds) and the end reasons of every decision (join_reasons).
+struct PackedShare {
+  std::vector<float> floats;
+  std::vector<double> doubles;
+  std::string reasons;
+};
+PackedShare pack_share(const core::ShareRollout& share);
+// The inverse for n_steps decisions of n environments; std::invalid_argument if a message does not
+// have the size that implies, or an end flag is neither 0 nor 1.
+core::ShareRollout unpack_share(const PackedShare& p, int n_steps, std::size_t n, std::size_t obs_dim,
+                                std::size_t act_dim);
 
 }  // namespace codesign::cluster

@@ -23,6 +23,8 @@
 
 namespace codesign::core {
 
+class RunAhead;  // run_ahead.hpp
+
 class EnvPool {
  public:
   virtual ~EnvPool() = default;
@@ -57,6 +59,10 @@ class EnvPool {
   // The threads that step the environments, idle between rollouts: the PPO update borrows them
   // for the actor's and the critic's passes side by side (results do not change). Null: none.
   virtual rl::ThreadPool* thread_pool() { return nullptr; }
+  // A pool whose environments are stepped by other processes may run a feed-forward policy's
+  // whole rollouts there (run_ahead.hpp), with the same results as start() and step() by step();
+  // null: it does not.
+  virtual RunAhead* run_ahead() { return nullptr; }
 };
 
 class ThreadEnvPool final : public EnvPool {

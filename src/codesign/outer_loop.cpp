@@ -7,6 +7,8 @@
 
 #include "base/seconds_since.hpp"
 #include "fem/design.hpp"
+#include "codesign/run_ahead.hpp"
+#include "rl/gaussian.hpp"
 #include "rl/gru_policy.hpp"
 #include "rl/recurrent_ppo.hpp"
 #include "rl/rollout.hpp"
@@ -33,16 +35,16 @@ const LoopConfig& checked(const LoopConfig& c, const EnvPool* envs) {
   return c;
 }
 
-// The feed-forward model of ppo.policy = "mlp"; an empty one with "gru" (the recurrent model is
-// built beside it).
+}  // namespace
+
 rl::ActorCritic feed_forward_model(const LoopConfig& c, const EnvPool& envs) {
   if (c.ppo.policy != rl::PolicyKind::Mlp) return {};
-  return rl::ActorCritic(observation_dim(c.task), static_cast<int>(envs.spec().action.dim()), c.ppo.actor_hidden,
-                         c.ppo.critic_hidden, static_cast<float>(c.ppo.log_std_init),
-                         c.ppo.privileged_critic ? kPrivilegedDim : 0);
+  rl::ActorCritic m(observation_dim(c.task), static_cast<int>(envs.spec().action.dim()), c.ppo.actor_hidden,
+                    c.ppo.critic_hidden, static_cast<float>(c.ppo.log_std_init),
+                    c.ppo.privileged_critic ? kPrivilegedDim : 0);
+  m.set_matmul_precision(c.ppo.matmul_precision);
+  return m;
 }
-
-}  // namespace
 
 DistributionConfig distribution_config(const CodesignConfig& c, const TaskConfig& task) {
   DistributionConfig d = c.distribution;
@@ -130,46 +132,68 @@ IterationReport OuterLoop::iterate() {
   std::vector<EpisodeSetup> setups;
   rep.samples = sample_designs(setups);
   const auto n = static_cast<Eigen::Index>(envs_->size());
-  Eigen::MatrixXd obs = envs_->start(setups);
-  Eigen::RowVectorXf episode_starts = Eigen::RowVectorXf::Ones(n);
   std::vector<double> running(n, 0.0);
   std::vector<int> length(n, 0);
   std::vector<char> first_done(n, 0);
   const int n_steps = config_.ppo.n_steps;
-  const rl::RolloutStep step = [this](const Eigen::MatrixXd& actions, bool last) -> const rl::VecStepResult& {
-    return envs_->step(actions, !last);
-  };
   // Every rollout starts each column from reset (episode_starts is 1 at step 0), so the recurrent
   // policy's sequences start from a zero state; an episode that ends early (e.g. lost contact)
   // restarts in its column, from a zero state again. Emplaced below, read by `observe`.
   std::optional<rl::GruPolicy> gru;
-  const rl::RolloutObserver observe = [&](int k, std::size_t i, const rl::VecStepResult& r) {
-    if (i == 0 && gru && memory_observer_)
-      memory_observer_(length[0], setups[0].design, gru->state().actor.col(0), gru->state().critic.col(0));
-    running[i] += r.rewards(static_cast<Eigen::Index>(i));
+  // One decision of environment i: its raw reward, whether its episode ended (with the episode's
+  // in-band decisions and end reason), in the order of the one-process rollout.
+  const auto record = [&](int k, std::size_t i, double reward, bool done, int in_band, const std::string& reason) {
+    running[i] += reward;
     length[i] += 1;
-    const bool done = r.done(i);
     if (!done && k + 1 < n_steps) return;
     EpisodeRecord e;
     e.env = static_cast<int>(i);
     e.setup = setups[i];
     e.episode_return = running[i];
     e.decisions = length[i];
-    e.in_band = done ? envs_->last_in_band(i) : -1;
-    e.reason = done ? r.reasons[i] : "rollout_end";
+    e.in_band = done ? in_band : -1;
+    e.reason = done ? reason : "rollout_end";
     e.first = !first_done[i];
     first_done[i] = 1;
     rep.episodes.push_back(std::move(e));
     running[i] = 0.0;
     length[i] = 0;
   };
-  const rl::RolloutOptions options{n_steps, config_.ppo.gamma, config_.ppo.gae_lambda,
-                                   obs_stats_ ? &*obs_stats_ : nullptr};
-  std::optional<rl::MlpPolicy> mlp;
-  rl::RolloutPolicy& policy = recurrent_ ? static_cast<rl::RolloutPolicy&>(gru.emplace(*recurrent_, n))
-                                         : static_cast<rl::RolloutPolicy&>(mlp.emplace(model_));
-  rep.policy_s = rl::collect_rollout(policy, step, envs_->spec().action, options, obs, episode_starts, buffer_,
-                                     act_rng_, observe).policy_s;
+  RunAhead* const run_ahead = envs_->run_ahead();
+  if (run_ahead && !recurrent_ && !obs_stats_) {
+    // The ranks run their environments' whole rollouts (run_ahead.hpp): the policy's draws are
+    // taken here first, in the order the step-by-step rollout below takes them.
+    std::vector<Eigen::MatrixXd> normals;
+    for (int k = 0; k < n_steps; ++k)
+      normals.push_back(rl::standard_normals(static_cast<Eigen::Index>(envs_->spec().action.dim()), n, act_rng_));
+    const ShareRollout rollout = run_ahead->rollout(setups, model_, normals, config_.ppo.gamma);
+    for (int k = 0; k < n_steps; ++k) {
+      const RolloutStepColumns& s = rollout.steps[static_cast<std::size_t>(k)];
+      for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i)
+        record(k, i, s.raw_rewards(static_cast<Eigen::Index>(i)), s.done[i] != 0, s.in_band[i], s.reasons[i]);
+    }
+    fill_buffer(rollout, config_.ppo.gamma, config_.ppo.gae_lambda, buffer_);
+    rep.policy_s = rollout.policy_s;
+  } else {
+    const rl::RolloutStep step = [this](const Eigen::MatrixXd& actions, bool last) -> const rl::VecStepResult& {
+      return envs_->step(actions, !last);
+    };
+    Eigen::MatrixXd obs = envs_->start(setups);
+    Eigen::RowVectorXf episode_starts = Eigen::RowVectorXf::Ones(n);
+    const rl::RolloutObserver observe = [&](int k, std::size_t i, const rl::VecStepResult& r) {
+      if (i == 0 && gru && memory_observer_)
+        memory_observer_(length[0], setups[0].design, gru->state().actor.col(0), gru->state().critic.col(0));
+      const bool done = r.done(i);
+      record(k, i, r.rewards(static_cast<Eigen::Index>(i)), done, done ? envs_->last_in_band(i) : -1, r.reasons[i]);
+    };
+    const rl::RolloutOptions options{n_steps, config_.ppo.gamma, config_.ppo.gae_lambda,
+                                     obs_stats_ ? &*obs_stats_ : nullptr};
+    std::optional<rl::MlpPolicy> mlp;
+    rl::RolloutPolicy& policy = recurrent_ ? static_cast<rl::RolloutPolicy&>(gru.emplace(*recurrent_, n))
+                                           : static_cast<rl::RolloutPolicy&>(mlp.emplace(model_));
+    rep.policy_s = rl::collect_rollout(policy, step, envs_->spec().action, options, obs, episode_starts, buffer_,
+                                       act_rng_, observe).policy_s;
+  }
   t_ += static_cast<std::int64_t>(n) * config_.ppo.n_steps;
   rep.collect_s = seconds_since(t_collect);
 

@@ -97,6 +97,11 @@ struct LoopState {
   double obs_count = 0.0;
 };
 
+// The feed-forward model of ppo.policy = "mlp" for `envs`, its parameters zero, at the configured
+// matrix-product precision (what OuterLoop trains; MPI ranks run rollouts with a copy); an empty
+// one with "gru".
+rl::ActorCritic feed_forward_model(const LoopConfig& c, const EnvPool& envs);
+
 class OuterLoop {
  public:
   OuterLoop(const LoopConfig& config, std::unique_ptr<EnvPool> envs);

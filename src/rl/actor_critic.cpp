@@ -34,13 +34,23 @@ typename ActorCriticT<S>::ActResult ActorCriticT<S>::act(const Eigen::Ref<const 
 template <class S>
 typename ActorCriticT<S>::ActResult ActorCriticT<S>::act(const Eigen::Ref<const Mat>& obs,
                                                          Rng& rng, InferenceCache& cache) const {
+  if (obs.rows() != critic_input_dim())
+    throw std::invalid_argument("ActorCritic::act: observation has " + std::to_string(obs.rows()) +
+                                " rows, expected " + std::to_string(critic_input_dim()));
+  return act_with(obs, standard_normals(log_std_.size(), obs.cols(), rng), cache);
+}
+
+template <class S>
+typename ActorCriticT<S>::ActResult ActorCriticT<S>::act_with(const Eigen::Ref<const Mat>& obs,
+                                                              const Eigen::Ref<const Eigen::MatrixXd>& normals,
+                                                              InferenceCache& cache) const {
   ActResult r;
   if (obs.rows() != critic_input_dim())
     throw std::invalid_argument("ActorCritic::act: observation has " + std::to_string(obs.rows()) +
                                 " rows, expected " + std::to_string(critic_input_dim()));
   const Mat& mean = privileged_dim() == 0 ? actor_.forward(obs, cache.actor)
                                           : actor_.forward(actor_rows(obs), cache.actor);
-  r.actions = gaussian_sample<S>(mean, log_std_, rng);
+  r.actions = gaussian_sample_with<S>(mean, log_std_, normals);
   r.log_probs = gaussian_log_prob<S>(mean, log_std_, r.actions);
   r.values = critic_.forward(obs, cache.critic).row(0);
   return r;

@@ -99,6 +99,10 @@ class ActorCriticT {
   // Samples actions for a batch of observations (rng draws as in gaussian_sample).
   ActResult act(const Eigen::Ref<const Mat>& obs, Rng& rng) const;
   ActResult act(const Eigen::Ref<const Mat>& obs, Rng& rng, InferenceCache& cache) const;
+  // The same with the standard normals given (gaussian_sample_with): act(obs, rng, cache) equals
+  // act_with(obs, standard_normals(act_dim, B, rng), cache).
+  ActResult act_with(const Eigen::Ref<const Mat>& obs, const Eigen::Ref<const Eigen::MatrixXd>& normals,
+                     InferenceCache& cache) const;
   // V(obs) for a batch (1 x B).
   RowVec value(const Eigen::Ref<const Mat>& obs) const;
   RowVec value(const Eigen::Ref<const Mat>& obs, InferenceCache& cache) const;

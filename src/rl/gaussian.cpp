@@ -37,17 +37,32 @@ S gaussian_entropy(const Eigen::Ref<const typename GaussianTypes<S>::Vec>& log_s
   return per_dim * S(log_std.size()) + log_std.sum();
 }
 
+Eigen::MatrixXd standard_normals(Eigen::Index act_dim, Eigen::Index cols, Rng& rng) {
+  Eigen::MatrixXd z(act_dim, cols);
+  for (Eigen::Index j = 0; j < cols; ++j)
+    for (Eigen::Index i = 0; i < act_dim; ++i) z(i, j) = rng.normal();
+  return z;
+}
+
+template <class S>
+typename GaussianTypes<S>::Mat gaussian_sample_with(
+    const Eigen::Ref<const typename GaussianTypes<S>::Mat>& mean,
+    const Eigen::Ref<const typename GaussianTypes<S>::Vec>& log_std, const Eigen::Ref<const Eigen::MatrixXd>& normals) {
+  check<S>(mean.rows(), mean.cols(), log_std.size(), normals.rows(), normals.cols());
+  const typename GaussianTypes<S>::Vec stddev = log_std.array().exp();
+  typename GaussianTypes<S>::Mat out(mean.rows(), mean.cols());
+  for (Eigen::Index j = 0; j < mean.cols(); ++j)
+    for (Eigen::Index i = 0; i < mean.rows(); ++i)
+      out(i, j) = mean(i, j) + stddev(i) * static_cast<S>(normals(i, j));
+  return out;
+}
+
 template <class S>
 typename GaussianTypes<S>::Mat gaussian_sample(
     const Eigen::Ref<const typename GaussianTypes<S>::Mat>& mean,
     const Eigen::Ref<const typename GaussianTypes<S>::Vec>& log_std, Rng& rng) {
   check<S>(mean.rows(), mean.cols(), log_std.size(), mean.rows(), mean.cols());
-  const typename GaussianTypes<S>::Vec stddev = log_std.array().exp();
-  typename GaussianTypes<S>::Mat out(mean.rows(), mean.cols());
-  for (Eigen::Index j = 0; j < mean.cols(); ++j)
-    for (Eigen::Index i = 0; i < mean.rows(); ++i)
-      out(i, j) = mean(i, j) + stddev(i) * static_cast<S>(rng.normal());
-  return out;
+  return gaussian_sample_with<S>(mean, log_std, standard_normals(mean.rows(), mean.cols(), rng));
 }
 
 template <class S>
@@ -84,6 +99,9 @@ void gaussian_entropy_backward(S d_entropy, Eigen::Ref<typename GaussianTypes<S>
   template GaussianTypes<S>::Mat gaussian_sample<S>(const Eigen::Ref<const GaussianTypes<S>::Mat>&, \
                                                     const Eigen::Ref<const GaussianTypes<S>::Vec>&, \
                                                     Rng&);                                       \
+  template GaussianTypes<S>::Mat gaussian_sample_with<S>(const Eigen::Ref<const GaussianTypes<S>::Mat>&, \
+                                                         const Eigen::Ref<const GaussianTypes<S>::Vec>&, \
+                                                         const Eigen::Ref<const Eigen::MatrixXd>&);  \
   template void gaussian_log_prob_backward<S>(                                                   \
       const Eigen::Ref<const GaussianTypes<S>::Mat>&, const Eigen::Ref<const GaussianTypes<S>::Vec>&, \
       const Eigen::Ref<const GaussianTypes<S>::Mat>&, const Eigen::Ref<const GaussianTypes<S>::RowVec>&, \

@@ -41,6 +41,17 @@ typename GaussianTypes<S>::Mat gaussian_sample(
     const Eigen::Ref<const typename GaussianTypes<S>::Mat>& mean,
     const Eigen::Ref<const typename GaussianTypes<S>::Vec>& log_std, Rng& rng);
 
+// The same with the standard normals given (act_dim x B, as gaussian_sample draws them):
+// mean + exp(log_std) * z, so gaussian_sample(mean, log_std, rng) equals this with the draws it
+// would take. MPI ranks that run their environments' rollouts get the rollout's draws from rank 0.
+template <class S>
+typename GaussianTypes<S>::Mat gaussian_sample_with(
+    const Eigen::Ref<const typename GaussianTypes<S>::Mat>& mean,
+    const Eigen::Ref<const typename GaussianTypes<S>::Vec>& log_std, const Eigen::Ref<const Eigen::MatrixXd>& normals);
+
+// act_dim x B standard normals, drawn as gaussian_sample draws them (column by column).
+Eigen::MatrixXd standard_normals(Eigen::Index act_dim, Eigen::Index cols, Rng& rng);
+
 // Chain rule through log_prob: given d_logp = dL/d(log p) (1 x B), writes
 // d_mean = dL/d(mean) (act_dim x B) and ADDS dL/d(log_std) to d_log_std (act_dim).
 template <class S>

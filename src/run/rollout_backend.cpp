@@ -6,6 +6,7 @@
 #include "base/errors.hpp"
 #include "cluster/mpi_env_pool.hpp"
 #include "cluster/mpi_world.hpp"
+#include "codesign/outer_loop.hpp"
 
 namespace codesign::run {
 
@@ -42,7 +43,10 @@ std::string rollout_sharing_note(core::EnvPool& pool) {
   if (!mpi) return {};
   return "rollouts on " + std::to_string(mpi->ranks()) + " MPI ranks: environments shared out by cost at " +
          std::to_string(mpi->reassigned_starts()) + " of " + std::to_string(mpi->starts()) +
-         " iterations' starts (contiguous slices at the others: the first, and any where the costs gave that split)";
+         " iterations' starts (contiguous slices at the others: the first, and any where the costs gave that split); "
+         "each rank ran its environments' whole rollout, meeting the others once, in " +
+         std::to_string(mpi->rollouts()) + " of them (the others step by step, meeting at every decision: "
+         "recurrent policies and observation statistics need that)";
 }
 
 void serve_rollouts(const RunSettings& s, std::size_t threads, int rank, int ranks) {
@@ -52,7 +56,8 @@ void serve_rollouts(const RunSettings& s, std::size_t threads, int rank, int ran
   const cluster::EnvSlice mine = slice_of(lc, rank, ranks);
   auto sims = std::make_shared<core::SimulatorPool>(s.spec, s.scene, s.solver);
   core::ThreadEnvPool local(sims, lc.task, mine.count, threads, lc.ppo.privileged_critic);
-  cluster::serve_env_pool(local);
+  rl::ActorCritic model = core::feed_forward_model(lc, local);  // rollout() sends its parameters
+  cluster::serve_env_pool(local, lc.ppo.policy == rl::PolicyKind::Mlp ? &model : nullptr);
 }
 
 bool serve_unless_rank_zero(const RunSettings& s, std::size_t threads) {

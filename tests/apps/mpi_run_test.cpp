@@ -71,33 +71,49 @@ RunResult run_mpi(int ranks, const std::string& args) {
 TEST(MpiRun, TwoAndThreeRanksWriteTheRunFolderOfOneProcess) {
   const fs::path dir = codesign::test::scratch_dir("codesign_mpi_", "same");
   // 4 environments of 2 decisions, 12 iterations through every phase of Algorithm 2, a checkpoint
-  // every 2 iterations: short, but every call of the rollout interface crosses the ranks.
-  codesign::test::TinyRun t = codesign::test::TinyRun::minimal();
-  t.total_timesteps = 96;
-  t.exploration_end = 32;
-  t.exploitation_start = 64;
-  t.checkpoint_every = 16;
-  std::ofstream(dir / "tiny.toml") << t.toml();
-  const std::string common = "run --config " + (dir / "tiny.toml").string() + " --threads 1 --quiet --no-figures -o ";
-  RunResult one = codesign::test::run_codesign(common + (dir / "one").string());
-  ASSERT_EQ(one.status, 0) << one.output;
-  for (int ranks : {2, 3}) {
-    const fs::path out = dir / ("ranks" + std::to_string(ranks));
-    const RunResult r = run_mpi(ranks, common + out.string());
-    ASSERT_EQ(r.status, 0) << r.output;
-    for (const char* f : {"policy.bin", "sampled.csv", "distribution.csv", "q_disc.csv", "episodes.csv"})
-      EXPECT_EQ(slurp(out / f), slurp(dir / "one" / f)) << f << " on " << ranks << " ranks";
-    EXPECT_EQ(without_wall(slurp(out / "result.toml")), without_wall(slurp(dir / "one" / "result.toml")))
-        << ranks << " ranks";
-    EXPECT_FALSE(fs::exists(out / ".lock"));
-    // The environments moved between the ranks (by their designs' costs) in some iterations, so the
-    // files above also show that which rank steps an environment changes nothing. With random
-    // costs a 2 + 2 split stays contiguous at a start with probability 1/6, 2 + 1 + 1 with 1/12,
-    // so all 11 starts after the first (costs unknown: contiguous) staying so is below 1e-8.
-    const std::string key = "environments shared out by cost at ";
-    const std::size_t at = r.output.find(key);
-    ASSERT_NE(at, std::string::npos) << r.output;
-    EXPECT_GT(std::stoi(r.output.substr(at + key.size())), 0) << r.output;
+  // every 2 iterations: short, but every call of the rollout interface crosses the ranks. With the
+  // feed-forward policy and no observation statistics each rank runs its environments' whole
+  // rollouts (codesign/run_ahead.hpp); with observation statistics the rollouts go step by step
+  // across the ranks. Either way the run folder is the one-process run's.
+  for (const bool statistics : {false, true}) {
+    codesign::test::TinyRun t = codesign::test::TinyRun::minimal();
+    t.total_timesteps = 96;
+    t.exploration_end = 32;
+    t.exploitation_start = 64;
+    t.checkpoint_every = 16;
+    std::string toml = t.toml();
+    if (statistics) toml.replace(toml.find("[ppo]\n"), 6, "[ppo]\nnormalize_observations = true\n");
+    const std::string name = statistics ? "statistics" : "plain";
+    std::ofstream(dir / (name + ".toml")) << toml;
+    const std::string common =
+        "run --config " + (dir / (name + ".toml")).string() + " --threads 1 --quiet --no-figures -o ";
+    const fs::path one_dir = dir / (name + "_one");
+    RunResult one = codesign::test::run_codesign(common + one_dir.string());
+    ASSERT_EQ(one.status, 0) << one.output;
+    for (int ranks : statistics ? std::vector<int>{2} : std::vector<int>{2, 3}) {
+      const fs::path out = dir / (name + std::to_string(ranks));
+      const RunResult r = run_mpi(ranks, common + out.string());
+      ASSERT_EQ(r.status, 0) << r.output;
+      for (const char* f : {"policy.bin", "sampled.csv", "distribution.csv", "q_disc.csv", "episodes.csv"})
+        EXPECT_EQ(slurp(out / f), slurp(one_dir / f)) << f << " on " << ranks << " ranks, " << name;
+      EXPECT_EQ(without_wall(slurp(out / "result.toml")), without_wall(slurp(one_dir / "result.toml")))
+          << ranks << " ranks, " << name;
+      EXPECT_FALSE(fs::exists(out / ".lock"));
+      // The environments moved between the ranks (by their designs' costs) in some iterations, so
+      // the files above also show that which rank steps an environment changes nothing. With
+      // random costs a 2 + 2 split stays contiguous at a start with probability 1/6, 2 + 1 + 1
+      // with 1/12, so all 11 starts after the first (costs unknown: contiguous) staying so is
+      // below 1e-8.
+      const std::string key = "environments shared out by cost at ";
+      const std::size_t at = r.output.find(key);
+      ASSERT_NE(at, std::string::npos) << r.output;
+      EXPECT_GT(std::stoi(r.output.substr(at + key.size())), 0) << r.output;
+      // Whole rollouts on the ranks in all 12 iterations, or in none.
+      const std::string ahead = "meeting the others once, in ";
+      const std::size_t at2 = r.output.find(ahead);
+      ASSERT_NE(at2, std::string::npos) << r.output;
+      EXPECT_EQ(std::stoi(r.output.substr(at2 + ahead.size())), statistics ? 0 : 12) << r.output;
+    }
   }
 }
 

@@ -102,4 +102,66 @@ TEST(RolloutMessages, ReasonsRoundTripAndCountsAreChecked) {
   EXPECT_THROW(join_reasons({"a\nb"}), std::invalid_argument);
 }
 
+bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+template <class M>
+bool same_bits_all(const M& a, const M& b) {
+  if (a.size() != b.size()) return false;
+  for (Eigen::Index i = 0; i < a.size(); ++i)
+    if (!same_bits(a(i), b(i))) return false;
+  return true;
+}
+
+TEST(RolloutMessages, WholeRolloutsRoundTripBitForBit) {
+  const int steps = 3;
+  const std::size_t n = 2, d = 4, a = 2;
+  core::ShareRollout s = core::empty_share(steps, n, d, a);
+  float f = 0.25f;
+  for (core::RolloutStepColumns& c : s.steps) {
+    for (Eigen::Index i = 0; i < c.obs.size(); ++i) c.obs(i) = f += 1.5f;
+    for (Eigen::Index i = 0; i < c.actions.size(); ++i) c.actions(i) = -(f += 0.5f);
+    c.values << std::numeric_limits<float>::quiet_NaN(), -0.0f;
+    c.log_probs << std::numeric_limits<float>::denorm_min(), -3.5f;
+    c.rewards << 1e-30f, std::numeric_limits<float>::infinity();
+    c.raw_rewards << -0.0, std::numeric_limits<double>::denorm_min();
+  }
+  s.steps[1].done = {1, 0};
+  s.steps[1].in_band = {17, 0};
+  s.steps[1].reasons = {"lost_contact", ""};
+  s.steps[2].done = {1, 1};
+  s.steps[2].in_band = {0, 50};
+  s.steps[2].reasons = {"time_limit", "time_limit"};
+  s.last_values << 2.5f, -0.0f;
+  s.policy_s = 0.125;
+  const PackedShare p = pack_share(s);
+  const core::ShareRollout t = unpack_share(p, steps, n, d, a);
+  ASSERT_EQ(t.steps.size(), s.steps.size());
+  for (std::size_t k = 0; k < s.steps.size(); ++k) {
+    const core::RolloutStepColumns &x = s.steps[k], &y = t.steps[k];
+    EXPECT_TRUE(same_bits_all(x.obs, y.obs)) << k;
+    EXPECT_TRUE(same_bits_all(x.actions, y.actions)) << k;
+    EXPECT_TRUE(same_bits_all(x.values, y.values)) << k;
+    EXPECT_TRUE(same_bits_all(x.log_probs, y.log_probs)) << k;
+    EXPECT_TRUE(same_bits_all(x.rewards, y.rewards)) << k;
+    EXPECT_TRUE(same_bits_all(x.raw_rewards, y.raw_rewards)) << k;
+    EXPECT_EQ(x.done, y.done) << k;
+    EXPECT_EQ(x.in_band, y.in_band) << k;
+    EXPECT_EQ(x.reasons, y.reasons) << k;
+  }
+  EXPECT_TRUE(same_bits_all(s.last_values, t.last_values));
+  EXPECT_EQ(t.policy_s, 0.125);
+  // Sizes, flags and counts that do not fit are refused.
+  EXPECT_THROW(unpack_share(p, steps + 1, n, d, a), std::invalid_argument);
+  EXPECT_THROW(unpack_share(p, steps, n, d + 1, a), std::invalid_argument);
+  PackedShare bad = p;
+  bad.doubles[1] = 0.5;  // the first end flag
+  EXPECT_THROW(unpack_share(bad, steps, n, d, a), std::invalid_argument);
+  bad = p;
+  bad.doubles[2] = 2.5;  // the first in-band count
+  EXPECT_THROW(unpack_share(bad, steps, n, d, a), std::invalid_argument);
+  bad = p;
+  bad.reasons += "\nextra";
+  EXPECT_THROW(unpack_share(bad, steps, n, d, a), std::invalid_argument);
+}
+
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 
@@ -13,6 +14,20 @@ namespace {
 using Mat = Eigen::MatrixXd;
 using Vec = Eigen::VectorXd;
 using RowVec = Eigen::RowVectorXd;
+
+TEST(Gaussian, SampleWithTheStreamsDrawsIsTheSample) {
+  Mat mean(3, 4);
+  mean << 0.1, -0.2, 0.3, 0.4, 1.0, 2.0, -3.0, 0.5, 0.0, 0.25, -0.75, 1.5;
+  Vec log_std(3);
+  log_std << -1.0, 0.0, 0.5;
+  Rng a(11), b(11), c(11);
+  const Mat z = standard_normals(3, 4, b);
+  EXPECT_EQ(gaussian_sample<double>(mean, log_std, a), gaussian_sample_with<double>(mean, log_std, z));
+  EXPECT_EQ(a.save(), b.save());
+  // Column by column: draw k is row k % 3 of column k / 3.
+  for (Eigen::Index k = 0; k < 12; ++k) EXPECT_EQ(z(k % 3, k / 3), c.normal()) << "draw " << k;
+  EXPECT_THROW(gaussian_sample_with<double>(mean, log_std, Mat::Zero(3, 3)), std::invalid_argument);
+}
 
 TEST(Gaussian, LogProbAndEntropyMatchClosedForm) {
   Mat mean(2, 1);

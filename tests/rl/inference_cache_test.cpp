@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "rl/actor_critic.hpp"
+#include "rl/gaussian.hpp"
 #include "rl/gemm.hpp"
 #include "rl/rng.hpp"
 #include "random_matrix.hpp"
@@ -39,6 +40,46 @@ TEST(InferenceCache, ReusedCacheMatchesFreshCallsAndFollowsWeightChanges) {
     Rng r1(5), r2(5);
     EXPECT_EQ(model.act(obs, r1).actions, model.act(obs, r2, cache).actions);
   }
+}
+
+// Issue 20 (codesign/run_ahead.hpp): an MPI rank runs its environments' rollouts on the ψ-wide
+// batch with its own columns at their places and zeros elsewhere. That gives the one-process
+// numbers if a column's action, value and log-probability depend on no other column's values:
+// shown here for every kernel MlpT can take (blocked GEMMs in float32 and bf16 where the CPU has
+// them, Eigen's products otherwise and with the fast GEMM off), at widths on either side of the
+// blocked kernels' 32 columns. act_with(standard_normals(...)) is act() with the same draws.
+TEST(InferenceCache, ColumnsDoNotDependOnTheOtherColumnsValues) {
+  for (MatmulPrecision p : {MatmulPrecision::Float32, MatmulPrecision::BFloat16})
+    for (bool fast : {true, false})
+      for (Eigen::Index width : {4, 31, 40}) {
+        if (p == MatmulPrecision::BFloat16 && (!bf16_gemm_available() || !fast)) continue;
+        Rng init(3);
+        ActorCritic model(6, 2, {96, 64}, {64, 96});
+        model.init_orthogonal(init);
+        model.set_matmul_precision(p);
+        model.set_fast_gemm(fast);
+        Rng data(4);
+        const Eigen::MatrixXf obs = test::random_matrix(6, width, data);
+        Rng draws(8), same(8);
+        const Eigen::MatrixXd z = standard_normals(2, width, draws);
+        ActorCritic::InferenceCache cache;
+        const auto all = model.act_with(obs, z, cache);
+        const auto sampled = model.act(obs, same, cache);
+        EXPECT_EQ(all.actions, sampled.actions);
+        EXPECT_EQ(all.log_probs, sampled.log_probs);
+        EXPECT_EQ(draws.save(), same.save());
+        // Keep every third column, from column 1 on; zero the others.
+        Eigen::MatrixXf some = Eigen::MatrixXf::Zero(6, width);
+        for (Eigen::Index j = 1; j < width; j += 3) some.col(j) = obs.col(j);
+        const auto part = model.act_with(some, z, cache);
+        const Eigen::RowVectorXf values = model.value(some, cache);
+        for (Eigen::Index j = 1; j < width; j += 3) {
+          EXPECT_EQ(part.actions.col(j), all.actions.col(j)) << "column " << j << " of " << width;
+          EXPECT_EQ(part.values(j), all.values(j)) << "column " << j << " of " << width;
+          EXPECT_EQ(part.log_probs(j), all.log_probs(j)) << "column " << j << " of " << width;
+          EXPECT_EQ(values(j), all.values(j)) << "column " << j << " of " << width;
+        }
+      }
 }
 
 // Issue 20 (docs/cluster.md, "The meeting at every decision, counted"): ranks that ran ahead would
