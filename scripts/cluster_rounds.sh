@@ -10,7 +10,11 @@
 # Writes OUTDIR/N.one.txt and N.ranks.txt (the benches' output), N.one.ctx and N.ranks.ctx (per
 # thread: user and system seconds, voluntary and involuntary switches over the window), N.time.
 # RANK_THREADS (default 2) sets the two-rank launch's --threads per rank (1: the ranks do not share
-# cores). Run it on otherwise idle cores. Open MPI on this machine only (shared memory, loopback).
+# cores). LOCKSTEP=1 adds a third launch to each round, the two ranks with `--lockstep` (rollouts
+# step by step, meeting at every decision, as before whole rollouts ran on the ranks), written to
+# N.lockstep.txt and N.lockstep.ctx; the order is one, ranks, lockstep in odd rounds and the reverse
+# in even ones. Run it on otherwise idle cores. Open MPI on this machine only (shared memory,
+# loopback).
 set -euo pipefail
 if [ $# -lt 4 ]; then
   echo "usage: bash scripts/cluster_rounds.sh BINARY CONFIG OUTDIR ROUNDS [WARMUP]" >&2
@@ -43,8 +47,12 @@ sample() {  # $1: output file
 }
 one() { sample "$OUT/$1.one.ctx" & "$BIN" $BENCH > "$OUT/$1.one.txt" 2>&1; wait; }
 ranks() { sample "$OUT/$1.ranks.ctx" & $MPI "$BIN" $RANK_BENCH > "$OUT/$1.ranks.txt" 2>&1; wait; }
+lockstep() {
+  [ "${LOCKSTEP:-0}" = 1 ] || return 0
+  sample "$OUT/$1.lockstep.ctx" & $MPI "$BIN" $RANK_BENCH --lockstep > "$OUT/$1.lockstep.txt" 2>&1; wait
+}
 for i in $(seq 1 "$N"); do
   date -u +%T > "$OUT/$i.time"
-  if [ $((i % 2)) = 1 ]; then one "$i"; ranks "$i"; else ranks "$i"; one "$i"; fi
+  if [ $((i % 2)) = 1 ]; then one "$i"; ranks "$i"; lockstep "$i"; else lockstep "$i"; ranks "$i"; one "$i"; fi
   date -u +%T >> "$OUT/$i.time"
 done

@@ -607,7 +607,8 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   const ControllerFactory policy = policy_factory(final_policy);
   EvaluationOptions eo;
   eo.episodes = c.eval_episodes;
-  eo.threads = options.threads;
+  const std::size_t eval_threads = options.evaluation_threads > 0 ? options.evaluation_threads : options.threads;
+  eo.threads = eval_threads;
   const DesignEvaluation eb = evaluate_feedback(policy, sims, lc.task, best, eo);
   write_evaluation(dir / run_file::kEvalDir, "best", eb);
   if (telemetry->enabled()) {
@@ -629,7 +630,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   std::optional<FixedThetaTuning> fixed;
   if (c.fixed_theta_phases > 0) {
     fixed = tune_fixed_theta(sims, lc.task, best, FixedThetaConfig{}, c.fixed_theta_phases, c.eval_episodes,
-                             options.threads);
+                             eval_threads);
     if (const int sig = stop_signal(); sig != 0) return stopped(sig, in_evaluation);
   }
   rl::save_policy(dir / run_file::kPolicy, final_policy->contents());

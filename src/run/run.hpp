@@ -60,6 +60,10 @@ struct RunOptions {
   // MPI ranks stepping the rollouts (rollout_backend.hpp): 1 = this process alone; N > 1 = this is
   // rank 0 of N and ranks 1..N-1 are in serve_rollouts. Results do not depend on it.
   int ranks = 1;
+  // Threads of the final evaluation (0: `threads`). Under mpirun the other ranks sleep through it,
+  // so the main job gives rank 0 their threads on its machine too (main_job.cpp); results do not
+  // depend on it.
+  std::size_t evaluation_threads = 0;
   bool progress = true;         // progress line on stdout
   // LCM telemetry URL ("" = off): episodes, PPO updates and distribution updates as they
   // happen, decimated simulation steps of one training environment, and the simulation steps of
