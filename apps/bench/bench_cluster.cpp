@@ -173,6 +173,19 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
                   run16 <= 5.0 ? "met" : "NOT met");
     }
   }
+  // Not built: the threads of each rank running their environments' whole rollouts too, so nothing
+  // meets before the iteration's end. 16 ranks of t threads then hold the slots of 16·t ranks of one
+  // thread (ψ = 40, t = 2: 8 slots of 2 environments, 24 of 1) with the same rounds, split over the
+  // slots by cost at once rather than over the ranks and then their threads.
+  const int t = c.threads_per_rank;
+  if (t > 1 && static_cast<std::size_t>(16 * t) <= psi) {
+    const cluster::MeetingLoad m = cluster::meeting_load_factor(samples, psi, 16 * t, 1, o.spread_draws, seed);
+    cluster::ScalingCosts end = c;
+    end.collect_factor = m.run_ahead / own.lockstep;
+    std::printf("  16 ranks x %d threads, each thread running its environments' whole rollout (not built; simulated as "
+                "%d ranks x 1 thread): L = %.3f at the iteration's end, run %.1f min\n",
+                t, 16 * t, m.run_ahead, iterations_total * cluster::iteration_seconds(end, 16) / 60.0);
+  }
 }
 
 int run_bench_cluster(const BenchClusterOptions& o) {
