@@ -64,29 +64,25 @@ void recv_into(void* data, int count, MPI_Datatype type, int from, int tag, MPI_
   wait_without_spinning(request, status, what);
 }
 
-std::vector<double> recv_doubles(std::size_t n, int from, int tag) {
-  std::vector<double> v(n);
+// n numbers of MPI type `type` (T's) from `from`; std::runtime_error for another count.
+template <class T>
+std::vector<T> recv_numbers(std::size_t n, MPI_Datatype type, int from, int tag) {
+  std::vector<T> v(n);
   MPI_Status st;
-  recv_into(v.data(), static_cast<int>(n), MPI_DOUBLE, from, tag, &st, "receive");
+  recv_into(v.data(), static_cast<int>(n), type, from, tag, &st, "receive");
   int got = 0;
-  MPI_Get_count(&st, MPI_DOUBLE, &got);
+  MPI_Get_count(&st, type, &got);
   if (static_cast<std::size_t>(got) != n)
     throw std::runtime_error("MPI rollout backend: a message of " + std::to_string(got) + " numbers where " +
                              std::to_string(n) + " were expected");
   return v;
 }
 
-std::vector<float> recv_floats(std::size_t n, int from, int tag) {
-  std::vector<float> v(n);
-  MPI_Status st;
-  recv_into(v.data(), static_cast<int>(n), MPI_FLOAT, from, tag, &st, "receive");
-  int got = 0;
-  MPI_Get_count(&st, MPI_FLOAT, &got);
-  if (static_cast<std::size_t>(got) != n)
-    throw std::runtime_error("MPI rollout backend: a message of " + std::to_string(got) + " numbers where " +
-                             std::to_string(n) + " were expected");
-  return v;
+std::vector<double> recv_doubles(std::size_t n, int from, int tag) {
+  return recv_numbers<double>(n, MPI_DOUBLE, from, tag);
 }
+
+std::vector<float> recv_floats(std::size_t n, int from, int tag) { return recv_numbers<float>(n, MPI_FLOAT, from, tag); }
 
 void send_command(int to, Command c, int flag) {
   const int header[2] = {c, flag};
