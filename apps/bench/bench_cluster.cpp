@@ -37,6 +37,7 @@
 #include "cluster/cost_spread.hpp"
 #include "cluster/mpi_env_pool.hpp"
 #include "cluster/mpi_world.hpp"
+#include "cluster/rollout_messages.hpp"
 #include "cluster/scaling_model.hpp"
 #include "codesign/outer_loop.hpp"
 #include "commands.hpp"
@@ -248,11 +249,13 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   if (ranks > 1) {
     const std::size_t slice = cluster::env_slice(static_cast<std::size_t>(psi), 0, 2).count;
     const std::size_t obs = pool->spec().observation.dim(), act = pool->spec().action.dim();
-    const auto params = static_cast<std::size_t>(loop.model().actor().params().size() +
-                                                 loop.model().critic().params().size() + loop.model().log_std().size());
     const auto steps = static_cast<std::size_t>(n_steps);
-    exchange = ran_ahead ? cluster::time_exchanges(ranks, params / 2 + steps * act * static_cast<std::size_t>(psi),
-                                                   steps * slice * ((obs + act + 3) / 2 + 3) + slice, o.exchanges)
+    exchange = ran_ahead ? cluster::time_exchanges(ranks,
+                                                   cluster::policy_size(loop.model()) / 2 +
+                                                       steps * act * static_cast<std::size_t>(psi),
+                                                   cluster::share_floats(n_steps, slice, obs, act) / 2 +
+                                                       cluster::share_doubles(n_steps, slice),
+                                                   o.exchanges)
                          : cluster::time_exchanges(ranks, slice * act, slice * (5 + 2 * obs), o.exchanges);
   }
 
@@ -397,7 +400,7 @@ int run_bench_cluster(const BenchClusterOptions& o) {
               "model's floor is %.1f min\n",
               c.update_s + c.policy_s + c.distribution_s,
               iterations_total * (c.update_s + c.policy_s + c.distribution_s + c.env_collect_s) / 60.0);
-  const bool whole_rollouts = lc.ppo.policy == rl::PolicyKind::Mlp && !lc.ppo.normalize_observations;
+  const bool whole_rollouts = core::whole_rollouts_allowed(lc);
   if (!decision_costs.empty())
     print_meetings(decision_costs, c, iterations_total, static_cast<int>(threads), whole_rollouts, o);
   else

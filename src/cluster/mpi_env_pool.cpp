@@ -108,28 +108,6 @@ std::vector<double> columns(const Eigen::MatrixXd& m, EnvSlice s) {
   return v;
 }
 
-// The policy's parameters as one array: the actor's, the critic's, then log σ.
-std::vector<float> model_params(const rl::ActorCritic& m) {
-  std::vector<float> v;
-  for (const Eigen::VectorXf* p : {&m.actor().params(), &m.critic().params(), &m.log_std()})
-    v.insert(v.end(), p->data(), p->data() + p->size());
-  return v;
-}
-
-void set_model_params(rl::ActorCritic& m, const std::vector<float>& v) {
-  std::size_t at = 0;
-  for (Eigen::VectorXf* p : {&m.actor().params(), &m.critic().params(), &m.log_std()}) {
-    if (at + static_cast<std::size_t>(p->size()) > v.size()) break;
-    *p = Eigen::Map<const Eigen::VectorXf>(v.data() + at, p->size());
-    at += static_cast<std::size_t>(p->size());
-  }
-  if (at != v.size()) throw std::runtime_error("MPI rollout backend: the policy's parameters do not fit this rank's model");
-}
-
-std::size_t param_count(const rl::ActorCritic& m) {
-  return static_cast<std::size_t>(m.actor().params().size() + m.critic().params().size() + m.log_std().size());
-}
-
 // normals[k] (a x width each) as one array, decision after decision.
 std::vector<double> flat_normals(const std::vector<Eigen::MatrixXd>& normals, std::size_t a, std::size_t width) {
   std::vector<double> v;
@@ -319,7 +297,7 @@ core::ShareRollout MpiEnvPool::rollout(const std::vector<core::EpisodeSetup>& se
     send_doubles(where, r, kTagPayload);
   }
   if (ranks_ > 1) {
-    std::vector<float> params = model_params(model);
+    std::vector<float> params = pack_policy(model);
     check(MPI_Bcast(params.data(), static_cast<int>(params.size()), MPI_FLOAT, 0, MPI_COMM_WORLD), "broadcast the policy");
     std::vector<double> z = flat_normals(normals, a, n_envs_);
     check(MPI_Bcast(z.data(), static_cast<int>(z.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD), "broadcast the draws");
@@ -335,8 +313,8 @@ core::ShareRollout MpiEnvPool::rollout(const std::vector<core::EpisodeSetup>& se
   for (int r = 1; r < ranks_; ++r) {
     const std::size_t w = slices_[r].count;
     PackedShare p;
-    p.floats = recv_floats(static_cast<std::size_t>(n_steps) * w * (d + a + 3) + w, r, kTagReply);
-    p.doubles = recv_doubles(static_cast<std::size_t>(n_steps) * w * 3 + 1, r, kTagReply);
+    p.floats = recv_floats(share_floats(n_steps, w, d, a), r, kTagReply);
+    p.doubles = recv_doubles(share_doubles(n_steps, w), r, kTagReply);
     p.reasons = recv_string(r, kTagReasons);
     core::place_share(unpack_share(p, n_steps, w, d, a), places_of(slices_[r]), all);
   }
@@ -425,9 +403,9 @@ void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model) {
         std::vector<std::size_t> places;
         for (std::size_t j = 0; j < n; ++j) places.push_back(static_cast<std::size_t>(where[2 + j]));
         if (!model) throw std::runtime_error("MPI rollout backend: a whole rollout asked of a rank without a feed-forward model");
-        std::vector<float> params(param_count(*model));
+        std::vector<float> params(policy_size(*model));
         check(MPI_Bcast(params.data(), static_cast<int>(params.size()), MPI_FLOAT, 0, MPI_COMM_WORLD), "receive the policy");
-        set_model_params(*model, params);
+        unpack_policy(params, *model);
         if (n_steps < 1 || width < n) throw std::runtime_error("MPI rollout backend: a rollout of no decisions or too few columns");
         std::vector<double> z(static_cast<std::size_t>(n_steps) * a * width);
         check(MPI_Bcast(z.data(), static_cast<int>(z.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD), "receive the draws");

@@ -155,7 +155,7 @@ core::ShareRollout unpack_share(const PackedShare& p, int n_steps, std::size_t n
                                 std::size_t act_dim) {
   core::ShareRollout share = core::empty_share(n_steps, n, obs_dim, act_dim);
   const auto steps = static_cast<std::size_t>(n_steps);
-  if (p.floats.size() != steps * n * (obs_dim + act_dim + 3) + n || p.doubles.size() != steps * n * 3 + 1)
+  if (p.floats.size() != share_floats(n_steps, n, obs_dim, act_dim) || p.doubles.size() != share_doubles(n_steps, n))
     throw std::invalid_argument("unpack_share: a rollout message of " + std::to_string(p.floats.size()) + " floats and " +
                                 std::to_string(p.doubles.size()) + " doubles does not fit " + std::to_string(n_steps) +
                                 " decisions of " + std::to_string(n) + " environments");
@@ -182,6 +182,34 @@ core::ShareRollout unpack_share(const PackedShare& p, int n_steps, std::size_t n
   take(p.floats, at, share.last_values);
   share.policy_s = p.doubles[d];
   return share;
+}
+
+std::size_t share_floats(int n_steps, std::size_t n, std::size_t obs_dim, std::size_t act_dim) {
+  return static_cast<std::size_t>(n_steps) * n * (obs_dim + act_dim + 3) + n;
+}
+
+std::size_t share_doubles(int n_steps, std::size_t n) { return static_cast<std::size_t>(n_steps) * n * 3 + 1; }
+
+std::size_t policy_size(const rl::ActorCritic& m) {
+  return static_cast<std::size_t>(m.actor().params().size() + m.critic().params().size() + m.log_std().size());
+}
+
+std::vector<float> pack_policy(const rl::ActorCritic& m) {
+  std::vector<float> v;
+  for (const Eigen::VectorXf* p : {&m.actor().params(), &m.critic().params(), &m.log_std()})
+    v.insert(v.end(), p->data(), p->data() + p->size());
+  return v;
+}
+
+void unpack_policy(const std::vector<float>& v, rl::ActorCritic& m) {
+  if (v.size() != policy_size(m))
+    throw std::invalid_argument("unpack_policy: " + std::to_string(v.size()) + " parameters for a model of " +
+                                std::to_string(policy_size(m)));
+  std::size_t at = 0;
+  for (Eigen::VectorXf* p : {&m.actor().params(), &m.critic().params(), &m.log_std()}) {
+    *p = Eigen::Map<const Eigen::VectorXf>(v.data() + at, p->size());
+    at += static_cast<std::size_t>(p->size());
+  }
 }
 
 }  // namespace codesign::cluster

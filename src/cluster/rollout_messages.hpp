@@ -9,6 +9,7 @@
 
 #include "codesign/run_ahead.hpp"
 #include "codesign/whisker_env.hpp"
+#include "rl/actor_critic.hpp"
 #include "rl/vec_env.hpp"
 
 namespace codesign::cluster {
@@ -47,9 +48,18 @@ struct PackedShare {
   std::string reasons;
 };
 PackedShare pack_share(const core::ShareRollout& share);
+// The sizes of those messages for n_steps decisions of n environments.
+std::size_t share_floats(int n_steps, std::size_t n, std::size_t obs_dim, std::size_t act_dim);
+std::size_t share_doubles(int n_steps, std::size_t n);
 // The inverse for n_steps decisions of n environments; std::invalid_argument if a message does not
 // have the size that implies, or an end flag is neither 0 nor 1.
 core::ShareRollout unpack_share(const PackedShare& p, int n_steps, std::size_t n, std::size_t obs_dim,
                                 std::size_t act_dim);
+
+// The policy's parameters as one array (the actor's, the critic's, then log σ), its size, and
+// back into a model of the same shape (std::invalid_argument for another size).
+std::size_t policy_size(const rl::ActorCritic& m);
+std::vector<float> pack_policy(const rl::ActorCritic& m);
+void unpack_policy(const std::vector<float>& v, rl::ActorCritic& m);
 
 }  // namespace codesign::cluster

@@ -46,6 +46,10 @@ rl::ActorCritic feed_forward_model(const LoopConfig& c, const EnvPool& envs) {
   return m;
 }
 
+bool whole_rollouts_allowed(const LoopConfig& c) {
+  return c.ppo.policy == rl::PolicyKind::Mlp && !c.ppo.normalize_observations;
+}
+
 DistributionConfig distribution_config(const CodesignConfig& c, const TaskConfig& task) {
   DistributionConfig d = c.distribution;
   d.pressure_max_kPa = task.pressure_max_kPa;
@@ -160,7 +164,7 @@ IterationReport OuterLoop::iterate() {
     length[i] = 0;
   };
   RunAhead* const run_ahead = envs_->run_ahead();
-  if (run_ahead && !recurrent_ && !obs_stats_) {
+  if (run_ahead && whole_rollouts_allowed(config_)) {
     // The ranks run their environments' whole rollouts (run_ahead.hpp): the policy's draws are
     // taken here first, in the order the step-by-step rollout below takes them.
     std::vector<Eigen::MatrixXd> normals;

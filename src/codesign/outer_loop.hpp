@@ -101,6 +101,9 @@ struct LoopState {
 // matrix-product precision (what OuterLoop trains; MPI ranks run rollouts with a copy); an empty
 // one with "gru".
 rl::ActorCritic feed_forward_model(const LoopConfig& c, const EnvPool& envs);
+// Whether the loop's rollouts may run whole where the environments are (run_ahead.hpp): a
+// feed-forward policy and no observation statistics.
+bool whole_rollouts_allowed(const LoopConfig& c);
 
 class OuterLoop {
  public:
