@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "cluster/rollout_messages.hpp"
+#include "rl/rng.hpp"
 
 namespace {
 
@@ -162,6 +163,38 @@ TEST(RolloutMessages, WholeRolloutsRoundTripBitForBit) {
   bad = p;
   bad.reasons += "\nextra";
   EXPECT_THROW(unpack_share(bad, steps, n, d, a), std::invalid_argument);
+}
+
+bool same_float_bits(const Eigen::VectorXf& a, const Eigen::VectorXf& b) {
+  return a.size() == b.size() &&
+         std::memcmp(a.data(), b.data(), static_cast<std::size_t>(a.size()) * sizeof(float)) == 0;
+}
+
+// The policy a rank receives for a whole rollout: every parameter of the actor, the critic and
+// log_std, in that order, lands bit for bit in a model of the same shape; other sizes are refused.
+TEST(RolloutMessages, PolicyParametersRoundTripBitForBit) {
+  rl::ActorCritic sent(5, 2, {7, 3}, {4}, -2.0f), received(5, 2, {7, 3}, {4}, 0.0f);
+  rl::Rng a(11), b(12);
+  sent.init_orthogonal(a);
+  received.init_orthogonal(b);  // different values everywhere, so a part left unwritten shows
+  sent.log_std() << -1.25f, std::numeric_limits<float>::denorm_min();
+  sent.critic().params()(0) = -0.0f;
+  const std::vector<float> v = pack_policy(sent);
+  // Sizes by hand: actor 5*7+7 + 7*3+3 + 3*2+2 = 74, critic 5*4+4 + 4*1+1 = 29, log_std 2.
+  ASSERT_EQ(policy_size(sent), 105u);
+  ASSERT_EQ(v.size(), 105u);
+  ASSERT_FALSE(same_float_bits(sent.actor().params(), received.actor().params()));
+  unpack_policy(v, received);
+  EXPECT_TRUE(same_float_bits(sent.actor().params(), received.actor().params()));
+  EXPECT_TRUE(same_float_bits(sent.critic().params(), received.critic().params()));
+  EXPECT_TRUE(same_float_bits(sent.log_std(), received.log_std()));
+  // The order on the wire: the actor's first, log_std's last.
+  EXPECT_EQ(std::memcmp(&v.front(), sent.actor().params().data(), sizeof(float)), 0);
+  EXPECT_EQ(std::memcmp(&v.back(), &sent.log_std()(1), sizeof(float)), 0);
+  rl::ActorCritic other(5, 2, {7, 4}, {4}, 0.0f);
+  EXPECT_THROW(unpack_policy(v, other), std::invalid_argument);
+  std::vector<float> short_v(v.begin(), v.end() - 1);
+  EXPECT_THROW(unpack_policy(short_v, received), std::invalid_argument);
 }
 
 }  // namespace

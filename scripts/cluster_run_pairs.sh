@@ -1,0 +1,59 @@
+#!/bin/bash
+# Whole runs on one machine: one process of 2 threads against 2 MPI ranks of 1 thread each, the
+# order alternating between rounds (the VM's speed drifts within the hour, so only the runs of one
+# round are compared). Each run is a whole `codesign --config ... -o ...`: meshing, every
+# iteration, the checkpoints, the final evaluation and the figures, as a user launches it.
+#
+#   bash scripts/cluster_run_pairs.sh BINARY OUTDIR ROUNDS [DECISIONS]
+#
+# The config is configs/paper.toml cut to DECISIONS decisions (default 200000, i.e. 100 iterations
+# of the paper's 40 x 50), with its phase boundaries (T1, T2, the entropy decay) scaled by
+# DECISIONS / 1000000 so the run passes through every phase; it is written to OUTDIR/config.toml.
+# A paper-size pair takes about 3 hours on a Zen 1 VM of 2 cores; this one is about an hour.
+# Writes OUTDIR/N.one/ and N.ranks/ (run folders with their logs), and prints per run the wall
+# seconds and ppo.csv's sums of collect_s, update_s and policy_s, the two-rank run's ratio to the
+# one-process run of its round, and scripts/compare_runs.sh's count (the runs must be identical
+# but for wall-clock fields). Run it on otherwise idle cores. Open MPI on this machine only
+# (shared memory, loopback).
+set -euo pipefail
+if [ $# -lt 3 ]; then
+  echo "usage: bash scripts/cluster_run_pairs.sh BINARY OUTDIR ROUNDS [DECISIONS]" >&2
+  exit 2
+fi
+BIN=$(readlink -f "$1"); mkdir -p "$2"; OUT=$(readlink -f "$2"); N=$3; D=${4:-200000}
+cd "$(dirname "$0")/.."
+CFG="$OUT/config.toml"
+scaled() { awk -v d="$D" -v v="$1" 'BEGIN { printf "%d", v * d / 1000000 }'; }
+sed -E "s/^total_timesteps = [0-9]+/total_timesteps = $D/;
+        s/^exploration_end = [0-9]+/exploration_end = $(scaled 220000)/;
+        s/^exploitation_start = [0-9]+/exploitation_start = $(scaled 800000)/;
+        s/^ent_decay_start = [0-9]+/ent_decay_start = $(scaled 220000)/;
+        s/^ent_decay_end = [0-9]+/ent_decay_end = $(scaled 800000)/" configs/paper.toml > "$CFG"
+for key in total_timesteps exploration_end exploitation_start ent_decay_start ent_decay_end; do
+  grep -E "^$key = " "$CFG" > /dev/null || { echo "cluster_run_pairs.sh: $key not set in $CFG" >&2; exit 2; }
+done
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+MPI="mpirun -np 2 --bind-to none --oversubscribe --mca btl self,vader --mca btl_vader_single_copy_mechanism none --mca oob_tcp_if_include lo"
+
+# $1: run folder, $2: launch start (s since the epoch), $3: end
+report() {
+  awk -F, -v w="$(( $3 - $2 ))" -v name="$1" 'NR > 1 { c += $15; u += $16; p += $17 }
+    END { printf "%s: wall %d s, collect %.1f s, update %.1f s, policy %.1f s\n", name, w, c, u, p }' "$1/ppo.csv"
+}
+one() {
+  local s; s=$(date +%s)
+  "$BIN" --config "$CFG" --threads 2 -o "$OUT/$1.one" > "$OUT/$1.one.log" 2>&1
+  report "$OUT/$1.one" "$s" "$(date +%s)" | tee "$OUT/$1.one.time"
+}
+ranks() {
+  local s; s=$(date +%s)
+  $MPI "$BIN" --config "$CFG" --threads 1 -o "$OUT/$1.ranks" > "$OUT/$1.ranks.log" 2>&1
+  report "$OUT/$1.ranks" "$s" "$(date +%s)" | tee "$OUT/$1.ranks.time"
+}
+for i in $(seq 1 "$N"); do
+  echo "round $i from $(date -u +%T) UTC"
+  if [ $((i % 2)) = 1 ]; then one "$i"; ranks "$i"; else ranks "$i"; one "$i"; fi
+  a=$(sed -E 's/.*wall ([0-9]+) s.*/\1/' "$OUT/$i.one.time"); b=$(sed -E 's/.*wall ([0-9]+) s.*/\1/' "$OUT/$i.ranks.time")
+  awk -v a="$a" -v b="$b" -v i="$i" 'BEGIN { printf "round %d: two ranks / one process = %.3f (wall)\n", i, b / a }'
+  { bash scripts/compare_runs.sh "$OUT/$i.one" "$OUT/$i.ranks" || true; } | tail -1
+done
