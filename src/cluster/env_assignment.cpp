@@ -27,17 +27,7 @@ std::vector<EnvSlice> env_slices(std::size_t n_envs, int ranks) {
 
 std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const std::vector<EnvSlice>& slices,
                                         const std::vector<std::size_t>& pinned) {
-  return assign_by_cost(cost, slices, pinned, BuiltSimulators{});
-}
-
-std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const std::vector<EnvSlice>& slices,
-                                        const std::vector<std::size_t>& pinned, const BuiltSimulators& built) {
   const std::size_t n = cost.size(), ranks = slices.size();
-  const bool affinity = !built.count.empty();
-  if (affinity && (built.count.size() != ranks || built.design.size() != n))
-    throw std::invalid_argument("assign_by_cost: simulator counts for " + std::to_string(built.count.size()) +
-                                " ranks and " + std::to_string(built.design.size()) + " environments, not " +
-                                std::to_string(ranks) + " and " + std::to_string(n));
   std::size_t next = 0;
   for (const EnvSlice& s : slices) {
     if (s.first != next) throw std::invalid_argument("assign_by_cost: the slices are not contiguous from place 0");
@@ -53,28 +43,13 @@ std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const s
   std::vector<double> load(ranks, 0.0);
   std::vector<std::size_t> free_places(ranks);
   for (std::size_t r = 0; r < ranks; ++r) free_places[r] = slices[r].count;
-  // Simulators of each rank taken by the environments placed so far (affinity only).
-  std::vector<std::vector<int>> taken(affinity ? ranks : 0);
-  for (std::size_t r = 0; r < taken.size(); ++r) taken[r].assign(built.count[r].size(), 0);
-  auto design_on = [&](std::size_t r, std::size_t i) {  // index into count[r], or -1
-    const int d = built.design[i];
-    return d >= 0 && static_cast<std::size_t>(d) < built.count[r].size() ? d : -1;
-  };
-  auto holds_free = [&](std::size_t r, std::size_t i) {
-    const int d = design_on(r, i);
-    return d >= 0 && taken[r][static_cast<std::size_t>(d)] < built.count[r][static_cast<std::size_t>(d)];
-  };
-  auto place = [&](std::size_t i, std::size_t r) {
-    rank_of[i] = static_cast<int>(r);
-    load[r] += cost[i];
-    --free_places[r];
-    if (affinity && design_on(r, i) >= 0) ++taken[r][static_cast<std::size_t>(design_on(r, i))];
-  };
   for (std::size_t i : pinned) {
     if (i >= slices[0].count || rank_of[i] != -1)
       throw std::invalid_argument("assign_by_cost: pinned environment " + std::to_string(i) +
                                   " is repeated or not on rank 0's " + std::to_string(slices[0].count) + " places");
-    place(i, 0);
+    rank_of[i] = 0;
+    load[0] += cost[i];
+    --free_places[0];
   }
 
   std::vector<std::size_t> by_cost(n);
@@ -85,16 +60,9 @@ std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const s
     std::size_t best = ranks;
     for (std::size_t r = 0; r < ranks; ++r)
       if (free_places[r] > 0 && (best == ranks || load[r] < load[best])) best = r;
-    if (affinity && !holds_free(best, i)) {
-      const double top = *std::max_element(load.begin(), load.end());
-      std::size_t holder = ranks;
-      for (std::size_t r = 0; r < ranks; ++r)
-        if (free_places[r] > 0 && holds_free(r, i) && load[r] + cost[i] <= top &&
-            (holder == ranks || load[r] < load[holder]))
-          holder = r;
-      if (holder != ranks) best = holder;
-    }
-    place(i, best);
+    rank_of[i] = static_cast<int>(best);
+    load[best] += cost[i];
+    --free_places[best];
   }
 
   // Lay the ranks' environments out in ascending order; rank 0's pins first at their own places.
@@ -109,22 +77,6 @@ std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const s
     order[cursor[r]++] = i;
   }
   return order;
-}
-
-void record_built(const std::vector<std::size_t>& order, const std::vector<EnvSlice>& slices, BuiltSimulators& built) {
-  if (built.count.size() != slices.size())
-    throw std::invalid_argument("record_built: simulator counts for " + std::to_string(built.count.size()) +
-                                " ranks, not " + std::to_string(slices.size()));
-  for (std::size_t r = 0; r < slices.size(); ++r) {
-    std::vector<int> here(built.count[r].size(), 0);
-    for (std::size_t j = slices[r].first; j < slices[r].first + slices[r].count; ++j) {
-      if (j >= order.size() || order[j] >= built.design.size())
-        throw std::invalid_argument("record_built: place " + std::to_string(j) + " has no environment");
-      const int d = built.design[order[j]];
-      if (d >= 0 && static_cast<std::size_t>(d) < here.size()) ++here[static_cast<std::size_t>(d)];
-    }
-    for (std::size_t d = 0; d < here.size(); ++d) built.count[r][d] = std::max(built.count[r][d], here[d]);
-  }
 }
 
 }  // namespace codesign::cluster

@@ -36,28 +36,4 @@ std::vector<EnvSlice> env_slices(std::size_t n_envs, int ranks);
 std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const std::vector<EnvSlice>& slices,
                                         const std::vector<std::size_t>& pinned);
 
-// What the ranks have built: a rank meshes a design and builds a simulator of it the first time it
-// is given an environment of that design (core::SimulatorPool), where one process builds each
-// simulator once. count[r][d]: simulators of design d rank r holds (the most environments of d it
-// stepped in one iteration so far); design[i]: environment i's design in the start being assigned.
-struct BuiltSimulators {
-  std::vector<int> design;
-  std::vector<std::vector<int>> count;
-};
-
-// assign_by_cost, sending an environment to a rank that already holds a free simulator of its
-// design whenever that does not raise the busiest rank's total so far: where the greedy rule would
-// put it on a rank without one, it goes to the least loaded rank with a free place and a free
-// simulator whose total stays at or below the current maximum. The greedy bound holds as before
-// (the maximum only grows by placements on the least loaded rank). Without counts (count empty)
-// this is assign_by_cost above. Throws as above, and std::invalid_argument if `built` has
-// counts but not one row per rank or not one design per environment.
-std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const std::vector<EnvSlice>& slices,
-                                        const std::vector<std::size_t>& pinned, const BuiltSimulators& built);
-
-// After a start's assignment `order` (place j steps environment order[j]) over `slices`: raises
-// built.count[r][d] to the number of environments of design d on rank r, if higher. Designs outside
-// [0, count[r].size()) are left out.
-void record_built(const std::vector<std::size_t>& order, const std::vector<EnvSlice>& slices, BuiltSimulators& built);
-
 }  // namespace codesign::cluster

@@ -136,8 +136,6 @@ MpiEnvPool::MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n
   std::iota(order_.begin(), order_.end(), std::size_t{0});
   design_of_.assign(n_envs, -1);
   design_cost_.assign(fem::kDesignCount, std::numeric_limits<double>::quiet_NaN());
-  built_.design.assign(n_envs, -1);
-  built_.count.assign(static_cast<std::size_t>(ranks), std::vector<int>(fem::kDesignCount, 0));
 }
 
 MpiEnvPool::~MpiEnvPool() {
@@ -201,9 +199,7 @@ std::vector<core::EpisodeSetup> MpiEnvPool::assign(const std::vector<core::Episo
     if (d >= 0 && d < static_cast<int>(design_cost_.size()) && std::isfinite(design_cost_[static_cast<std::size_t>(d)]))
       predicted[i] = design_cost_[static_cast<std::size_t>(d)];
   }
-  for (std::size_t i = 0; i < n_envs_; ++i) built_.design[i] = setups[i].design;
-  if (known > 0.0 && share_by_cost_) order_ = assign_by_cost(predicted, slices_, pinned_, built_);
-  record_built(order_, slices_, built_);
+  if (known > 0.0 && share_by_cost_) order_ = assign_by_cost(predicted, slices_, pinned_);
   ++starts_;
   if (!std::is_sorted(order_.begin(), order_.end())) ++reassigned_;  // a sorted permutation is the identity
   std::vector<core::EpisodeSetup> placed(n_envs_);

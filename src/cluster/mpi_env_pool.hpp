@@ -4,8 +4,7 @@
 // The ψ environments of an iteration are shared out over the ranks of MPI_COMM_WORLD: env_slice
 // fixes how many each rank steps, assign_by_cost (env_assignment.hpp) which ones, anew at every
 // start() from the cost each design had when last stepped, so that the ranks, which meet at every
-// decision, carry similar work (and, where that costs no balance, on a rank that has built the
-// design's simulator already: BuiltSimulators). Rank 0 runs the co-design (it samples the designs, runs the PPO
+// decision, carry similar work. Rank 0 runs the co-design (it samples the designs, runs the PPO
 // update, writes the run folder) and steps its own share; every other rank holds only its share's
 // environments (a ThreadEnvPool of its own simulators) and serves rank 0's calls until told to stop
 // (serve_env_pool, which waits for rank 0 without polling a core). Each call of the EnvPool
@@ -105,7 +104,6 @@ class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
   std::vector<std::size_t> pinned_;      // environments with a step observer (on rank 0, own place)
   std::vector<int> design_of_;           // per environment, the design of the last start (-1: none)
   std::vector<double> design_cost_;      // per design, CPU seconds in its last iteration (NaN: unknown)
-  BuiltSimulators built_;                // the simulators each rank has built (assign_by_cost's affinity)
   rl::VecStepResult placed_;             // a step's results in place order, before they are put back
   std::vector<int> placed_in_band_;
   Eigen::MatrixXd placed_actions_;

@@ -2,9 +2,7 @@
 // how many each rank steps (env_slice: contiguous slices covering every environment once, sizes
 // differing by at most one, the larger first; rank counts that leave a rank without an environment
 // refused) and which ones (assign_by_cost: the greedy longest-processing-time rule with the slices'
-// sizes as capacities, telemetry's environments pinned to their place on rank 0; with the ranks'
-// built simulators, an environment goes to a rank holding one of its design when that does not
-// raise the busiest rank's total).
+// sizes as capacities, telemetry's environments pinned to their place on rank 0).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,8 +17,6 @@
 namespace {
 
 using codesign::cluster::assign_by_cost;
-using codesign::cluster::BuiltSimulators;
-using codesign::cluster::record_built;
 using codesign::cluster::env_slice;
 using codesign::cluster::env_slices;
 using codesign::cluster::EnvSlice;
@@ -132,96 +128,6 @@ TEST(AssignByCost, RandomCostsGiveAPermutationWithinTheGreedyBound) {
       EXPECT_LE(spread, *std::max_element(cost.begin(), cost.end()) + 1e-12)
           << "trial " << trial << ": " << n << " environments, " << ranks << " ranks";
     }
-  }
-}
-
-// Three ranks of two places, costs {6, 3, 2, 1, 1, 1}. The plain rule: 0 to rank 0; 1 to rank 1;
-// 2 to rank 2; 3 to rank 2 (2 < 3); 4 to rank 1 (rank 2 is full); 5 to rank 0 (the only free
-// place): loads 7, 4, 3. Rank 1 holds a simulator of
-// environment 2's design: 2 would go to rank 2 (load 0), but rank 1 at 3 + 2 = 5 stays below the
-// maximum 6, so it goes there; then 3 and 4 to rank 2, 5 to rank 0: loads 7, 5, 2, the same maximum.
-TEST(AssignByCost, AnEnvironmentGoesWhereItsDesignIsBuiltIfTheMaximumDoesNotGrow) {
-  const std::vector<double> cost = {6, 3, 2, 1, 1, 1};
-  const auto slices = env_slices(6, 3);
-  BuiltSimulators built{{20, 21, 22, 23, 24, 25}, std::vector<std::vector<int>>(3, std::vector<int>(110, 0))};
-  EXPECT_EQ(assign_by_cost(cost, slices, {}, built), assign_by_cost(cost, slices, {}));  // nothing built
-  EXPECT_EQ(assign_by_cost(cost, slices, {}), (std::vector<std::size_t>{0, 5, 1, 4, 2, 3}));
-  built.count[1][22] = 1;
-  const std::vector<std::size_t> order = assign_by_cost(cost, slices, {}, built);
-  EXPECT_EQ(order, (std::vector<std::size_t>{0, 5, 1, 2, 3, 4}));
-  EXPECT_EQ(loads(cost, slices, order), (std::vector<double>{7, 5, 2}));
-  // Held by the busiest rank instead, it would raise the maximum (6 + 2 > 6): the plain rule.
-  built.count[1][22] = 0;
-  built.count[0][22] = 1;
-  EXPECT_EQ(assign_by_cost(cost, slices, {}, built), assign_by_cost(cost, slices, {}));
-  // How many simulators a rank holds counts. Costs {6, 4, 3, 6, 2, 5}, environments 2 and 3 of
-  // design 22, rank 1 holding two: 0 to rank 0; 3 (6) to rank 1 (least loaded, holds one); 5 to
-  // rank 2; 1 to rank 2 (5 < 6); 2 (3): the plain rule says rank 0 (6 = 6, the lower rank), which
-  // holds none, while rank 1 holds a free one and 6 + 3 = 9 is the maximum: rank 1; 4 to rank 0.
-  // Holding one, rank 1's is taken by 3, so 2 goes to rank 0 and 4 to rank 1.
-  const std::vector<double> cost2 = {6, 4, 3, 6, 2, 5};
-  built.count[0][22] = 0;
-  built.design = {20, 21, 22, 22, 24, 25};
-  built.count[1][22] = 2;
-  EXPECT_EQ(assign_by_cost(cost2, slices, {}, built), (std::vector<std::size_t>{0, 4, 2, 3, 1, 5}));
-  built.count[1][22] = 1;
-  EXPECT_EQ(assign_by_cost(cost2, slices, {}, built), (std::vector<std::size_t>{0, 2, 3, 4, 1, 5}));
-  // The counts must match the ranks and the environments.
-  BuiltSimulators bad = built;
-  bad.count.pop_back();
-  EXPECT_THROW(assign_by_cost(cost, slices, {}, bad), std::invalid_argument);
-  bad = built;
-  bad.design.pop_back();
-  EXPECT_THROW(assign_by_cost(cost, slices, {}, bad), std::invalid_argument);
-}
-
-// record_built keeps, per rank and design, the most environments of the design the rank held in
-// one start.
-TEST(AssignByCost, RecordBuiltKeepsEachRanksMostSimulatorsOfADesign) {
-  const auto slices = env_slices(5, 2);  // places 0-2 on rank 0, 3-4 on rank 1
-  BuiltSimulators built{{7, 7, 9, 7, 109}, std::vector<std::vector<int>>(2, std::vector<int>(110, 0))};
-  record_built({0, 1, 2, 3, 4}, slices, built);  // rank 0: 7, 7, 9; rank 1: 7, 109
-  EXPECT_EQ(built.count[0][7], 2);
-  EXPECT_EQ(built.count[0][9], 1);
-  EXPECT_EQ(built.count[1][7], 1);
-  EXPECT_EQ(built.count[1][109], 1);
-  record_built({4, 2, 3, 0, 1}, slices, built);  // rank 0: 109, 9, 7; rank 1: 7, 7
-  EXPECT_EQ(built.count[0][7], 2);  // kept
-  EXPECT_EQ(built.count[0][109], 1);
-  EXPECT_EQ(built.count[1][7], 2);  // raised
-  EXPECT_EQ(built.count[1][9], 0);
-  BuiltSimulators wrong{{7, 7, 9, 7, 109}, std::vector<std::vector<int>>(3, std::vector<int>(110, 0))};
-  EXPECT_THROW(record_built({0, 1, 2, 3, 4}, slices, wrong), std::invalid_argument);
-}
-
-// Random costs, designs and built simulators: still a permutation within the greedy bound; with
-// every rank holding enough simulators of every design, or none, the plain rule's assignment.
-TEST(AssignByCost, RandomBuiltSimulatorsKeepTheGreedyBound) {
-  std::mt19937_64 rng(20261205);
-  std::uniform_real_distribution<double> u(0.05, 1.0);
-  for (int trial = 0; trial < 400; ++trial) {
-    const std::size_t n = 1 + rng() % 48;
-    const int ranks = 1 + static_cast<int>(rng() % std::min<std::size_t>(n, 9));
-    const auto slices = env_slices(n, ranks);
-    std::vector<double> cost(n);
-    for (double& c : cost) c = u(rng);
-    BuiltSimulators built{std::vector<int>(n), std::vector<std::vector<int>>(slices.size(), std::vector<int>(12, 0))};
-    for (int& d : built.design) d = static_cast<int>(rng() % 12);
-    for (auto& row : built.count)
-      for (int& c : row) c = static_cast<int>(rng() % 3);
-    const std::vector<std::size_t> order = assign_by_cost(cost, slices, {}, built);
-    std::vector<std::size_t> sorted = order;
-    std::sort(sorted.begin(), sorted.end());
-    for (std::size_t j = 0; j < n; ++j) ASSERT_EQ(sorted[j], j);
-    for (const EnvSlice& s : slices)
-      for (std::size_t j = s.first + 1; j < s.first + s.count; ++j) EXPECT_LT(order[j - 1], order[j]);
-    const std::vector<double> l = loads(cost, slices, order);
-    const double spread = *std::max_element(l.begin(), l.end()) - *std::min_element(l.begin(), l.end());
-    EXPECT_LE(spread, *std::max_element(cost.begin(), cost.end()) + 1e-12) << "trial " << trial;
-    for (auto& row : built.count) std::fill(row.begin(), row.end(), static_cast<int>(n));
-    EXPECT_EQ(assign_by_cost(cost, slices, {}, built), assign_by_cost(cost, slices, {})) << "trial " << trial;
-    for (auto& row : built.count) std::fill(row.begin(), row.end(), 0);
-    EXPECT_EQ(assign_by_cost(cost, slices, {}, built), assign_by_cost(cost, slices, {})) << "trial " << trial;
   }
 }
 
