@@ -13,14 +13,17 @@
 # Writes OUTDIR/N.one/ and N.ranks/ (run folders with their logs), and prints per run the wall
 # seconds and ppo.csv's sums of collect_s, update_s and policy_s, the two-rank run's ratio to the
 # one-process run of its round, and scripts/compare_runs.sh's count (the runs must be identical
-# but for wall-clock fields). Run it on otherwise idle cores. Open MPI on this machine only
+# but for wall-clock fields). BASELINE=BIN0 adds to each round a two-rank run of another binary
+# (N.base/, e.g. the commit before a change to the ranks' code), compared with the same counts;
+# the order is one, base, ranks in odd rounds and the reverse in even ones. Run it on otherwise
+# idle cores. Open MPI on this machine only
 # (shared memory, loopback).
 set -euo pipefail
 if [ $# -lt 3 ]; then
   echo "usage: bash scripts/cluster_run_pairs.sh BINARY OUTDIR ROUNDS [DECISIONS]" >&2
   exit 2
 fi
-BIN=$(readlink -f "$1"); mkdir -p "$2"; OUT=$(readlink -f "$2"); N=$3; D=${4:-200000}
+BIN=$(readlink -f "$1"); [ -z "${BASELINE:-}" ] || BASELINE=$(readlink -f "$BASELINE"); mkdir -p "$2"; OUT=$(readlink -f "$2"); N=$3; D=${4:-200000}
 cd "$(dirname "$0")/.."
 CFG="$OUT/config.toml"
 scaled() { awk -v d="$D" -v v="$1" 'BEGIN { printf "%d", v * d / 1000000 }'; }
@@ -50,10 +53,20 @@ ranks() {
   $MPI "$BIN" --config "$CFG" --threads 1 -o "$OUT/$1.ranks" > "$OUT/$1.ranks.log" 2>&1
   report "$OUT/$1.ranks" "$s" "$(date +%s)" | tee "$OUT/$1.ranks.time"
 }
+base() {
+  [ -n "${BASELINE:-}" ] || return 0
+  local s; s=$(date +%s)
+  $MPI "$BASELINE" --config "$CFG" --threads 1 -o "$OUT/$1.base" > "$OUT/$1.base.log" 2>&1
+  report "$OUT/$1.base" "$s" "$(date +%s)" | tee "$OUT/$1.base.time"
+}
+wall() { sed -E 's/.*wall ([0-9]+) s.*/\1/' "$1"; }
 for i in $(seq 1 "$N"); do
   echo "round $i from $(date -u +%T) UTC"
-  if [ $((i % 2)) = 1 ]; then one "$i"; ranks "$i"; else ranks "$i"; one "$i"; fi
-  a=$(sed -E 's/.*wall ([0-9]+) s.*/\1/' "$OUT/$i.one.time"); b=$(sed -E 's/.*wall ([0-9]+) s.*/\1/' "$OUT/$i.ranks.time")
-  awk -v a="$a" -v b="$b" -v i="$i" 'BEGIN { printf "round %d: two ranks / one process = %.3f (wall)\n", i, b / a }'
-  { bash scripts/compare_runs.sh "$OUT/$i.one" "$OUT/$i.ranks" || true; } | tail -1
+  if [ $((i % 2)) = 1 ]; then one "$i"; base "$i"; ranks "$i"; else ranks "$i"; base "$i"; one "$i"; fi
+  for r in ranks base; do
+    [ -f "$OUT/$i.$r.time" ] || continue
+    awk -v a="$(wall "$OUT/$i.one.time")" -v b="$(wall "$OUT/$i.$r.time")" -v i="$i" -v r="$r" \
+      'BEGIN { printf "round %d: two ranks (%s) / one process = %.3f (wall)\n", i, r, b / a }'
+    { bash scripts/compare_runs.sh "$OUT/$i.one" "$OUT/$i.$r" || true; } | tail -1
+  done
 done
