@@ -38,27 +38,24 @@ done
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 MPI="mpirun -np 2 --bind-to none --oversubscribe --mca btl self,vader --mca btl_vader_single_copy_mechanism none --mca oob_tcp_if_include lo"
 
-# $1: run folder, $2: launch start (s since the epoch), $3: end
+# $1: run folder, $2: wall seconds. ppo.csv's columns are looked up by name in its header.
 report() {
-  awk -F, -v w="$(( $3 - $2 ))" -v name="$1" 'NR > 1 { c += $15; u += $16; p += $17 }
-    END { printf "%s: wall %d s, collect %.1f s, update %.1f s, policy %.1f s\n", name, w, c, u, p }' "$1/ppo.csv"
+  awk -F, -v w="$2" -v name="$1" 'NR == 1 { for (k = 1; k <= NF; ++k) col[$k] = k
+      if (!("collect_s" in col) || !("update_s" in col) || !("policy_s" in col)) {
+        print name "/ppo.csv: no collect_s, update_s or policy_s column" > "/dev/stderr"; bad = 1; exit 1 } }
+    NR > 1 { c += $col["collect_s"]; u += $col["update_s"]; p += $col["policy_s"] }
+    END { if (bad) exit 1; printf "%s: wall %d s, collect %.1f s, update %.1f s, policy %.1f s\n", name, w, c, u, p }' "$1/ppo.csv"
 }
-one() {
-  local s; s=$(date +%s)
-  "$BIN" --config "$CFG" --threads 2 -o "$OUT/$1.one" > "$OUT/$1.one.log" 2>&1
-  report "$OUT/$1.one" "$s" "$(date +%s)" | tee "$OUT/$1.one.time"
+# $1: round, $2: kind (one, base or ranks), then the launcher and binary; runs one whole run into
+# OUT/ROUND.KIND with its log beside it and writes its report to OUT/ROUND.KIND.time.
+launch() {
+  local dir="$OUT/$1.$2" s; shift 2; s=$(date +%s)
+  "$@" --config "$CFG" -o "$dir" > "$dir.log" 2>&1
+  report "$dir" "$(( $(date +%s) - s ))" | tee "$dir.time"
 }
-ranks() {
-  local s; s=$(date +%s)
-  $MPI "$BIN" --config "$CFG" --threads 1 -o "$OUT/$1.ranks" > "$OUT/$1.ranks.log" 2>&1
-  report "$OUT/$1.ranks" "$s" "$(date +%s)" | tee "$OUT/$1.ranks.time"
-}
-base() {
-  [ -n "${BASELINE:-}" ] || return 0
-  local s; s=$(date +%s)
-  $MPI "$BASELINE" --config "$CFG" --threads 1 -o "$OUT/$1.base" > "$OUT/$1.base.log" 2>&1
-  report "$OUT/$1.base" "$s" "$(date +%s)" | tee "$OUT/$1.base.time"
-}
+one() { launch "$1" one "$BIN" --threads 2; }
+ranks() { launch "$1" ranks $MPI "$BIN" --threads 1; }
+base() { [ -z "${BASELINE:-}" ] || launch "$1" base $MPI "$BASELINE" --threads 1; }
 wall() { sed -E 's/.*wall ([0-9]+) s.*/\1/' "$1"; }
 for i in $(seq 1 "$N"); do
   echo "round $i from $(date -u +%T) UTC"

@@ -123,7 +123,10 @@ double time_exchanges(int ranks, std::size_t out_doubles, std::size_t in_doubles
 // Ranks 1..: answers rank 0's calls with `local` (the environments of env_slice(n_envs, rank,
 // ranks)) until rank 0's pool is destroyed. `model`: a feed-forward model of the run's shape, whose
 // parameters each rollout() overwrites (null: the run has none, and a rollout() is refused).
-// Throws std::runtime_error if a message fails or does not fit the slice.
+// Throws std::runtime_error if a message fails, has another length than the slice needs, or asks
+// a whole rollout without a model; std::invalid_argument from the message readers
+// (rollout_messages.hpp) if a setup's fields or the policy's size do not fit, which rank 0
+// running the same config cannot send.
 void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model = nullptr);
 
 }  // namespace codesign::cluster

@@ -103,14 +103,13 @@ TEST(RolloutMessages, ReasonsRoundTripAndCountsAreChecked) {
   EXPECT_THROW(join_reasons({"a\nb"}), std::invalid_argument);
 }
 
-bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
+// Bit-for-bit equality in the matrix's own scalar type (raw_rewards are doubles: comparing them
+// as floats would hide a difference below float precision). NaN payloads and -0 count.
 template <class M>
 bool same_bits_all(const M& a, const M& b) {
-  if (a.size() != b.size()) return false;
-  for (Eigen::Index i = 0; i < a.size(); ++i)
-    if (!same_bits(a(i), b(i))) return false;
-  return true;
+  using Scalar = typename M::Scalar;
+  return a.size() == b.size() &&
+         std::memcmp(a.data(), b.data(), static_cast<std::size_t>(a.size()) * sizeof(Scalar)) == 0;
 }
 
 TEST(RolloutMessages, WholeRolloutsRoundTripBitForBit) {
@@ -165,11 +164,6 @@ TEST(RolloutMessages, WholeRolloutsRoundTripBitForBit) {
   EXPECT_THROW(unpack_share(bad, steps, n, d, a), std::invalid_argument);
 }
 
-bool same_float_bits(const Eigen::VectorXf& a, const Eigen::VectorXf& b) {
-  return a.size() == b.size() &&
-         std::memcmp(a.data(), b.data(), static_cast<std::size_t>(a.size()) * sizeof(float)) == 0;
-}
-
 // The policy a rank receives for a whole rollout: every parameter of the actor, the critic and
 // log_std, in that order, lands bit for bit in a model of the same shape; other sizes are refused.
 TEST(RolloutMessages, PolicyParametersRoundTripBitForBit) {
@@ -183,11 +177,11 @@ TEST(RolloutMessages, PolicyParametersRoundTripBitForBit) {
   // Sizes by hand: actor 5*7+7 + 7*3+3 + 3*2+2 = 74, critic 5*4+4 + 4*1+1 = 29, log_std 2.
   ASSERT_EQ(policy_size(sent), 105u);
   ASSERT_EQ(v.size(), 105u);
-  ASSERT_FALSE(same_float_bits(sent.actor().params(), received.actor().params()));
+  ASSERT_FALSE(same_bits_all(sent.actor().params(), received.actor().params()));
   unpack_policy(v, received);
-  EXPECT_TRUE(same_float_bits(sent.actor().params(), received.actor().params()));
-  EXPECT_TRUE(same_float_bits(sent.critic().params(), received.critic().params()));
-  EXPECT_TRUE(same_float_bits(sent.log_std(), received.log_std()));
+  EXPECT_TRUE(same_bits_all(sent.actor().params(), received.actor().params()));
+  EXPECT_TRUE(same_bits_all(sent.critic().params(), received.critic().params()));
+  EXPECT_TRUE(same_bits_all(sent.log_std(), received.log_std()));
   // The order on the wire: the actor's first, log_std's last.
   EXPECT_EQ(std::memcmp(&v.front(), sent.actor().params().data(), sizeof(float)), 0);
   EXPECT_EQ(std::memcmp(&v.back(), &sent.log_std()(1), sizeof(float)), 0);
