@@ -27,6 +27,12 @@ std::vector<EnvSlice> env_slices(std::size_t n_envs, int ranks) {
 
 std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const std::vector<EnvSlice>& slices,
                                         const std::vector<std::size_t>& pinned) {
+  return assign_by_cost(cost, slices, pinned, BuildCosts{0.0, 0.0, std::vector<int>(cost.size(), -1),
+                                                          std::vector<std::vector<int>>(slices.size())});
+}
+
+std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const std::vector<EnvSlice>& slices,
+                                        const std::vector<std::size_t>& pinned, const BuildCosts& build) {
   const std::size_t n = cost.size(), ranks = slices.size();
   std::size_t next = 0;
   for (const EnvSlice& s : slices) {
@@ -38,18 +44,48 @@ std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const s
                                 std::to_string(n) + " environments");
   for (double c : cost)
     if (!std::isfinite(c) || c < 0.0) throw std::invalid_argument("assign_by_cost: a cost is negative or not finite");
+  if (build.design.size() != n || build.held.size() != ranks)
+    throw std::invalid_argument("assign_by_cost: build costs for " + std::to_string(build.design.size()) +
+                                " environments and " + std::to_string(build.held.size()) + " ranks, not " +
+                                std::to_string(n) + " and " + std::to_string(ranks));
+  if (!std::isfinite(build.model) || build.model < 0.0 || !std::isfinite(build.simulator) || build.simulator < 0.0)
+    throw std::invalid_argument("assign_by_cost: a build cost is negative or not finite");
+  for (const std::vector<int>& row : build.held)
+    for (int h : row)
+      if (h < 0) throw std::invalid_argument("assign_by_cost: a negative count of held simulators");
 
   std::vector<int> rank_of(n, -1);
   std::vector<double> load(ranks, 0.0);
   std::vector<std::size_t> free_places(ranks);
   for (std::size_t r = 0; r < ranks; ++r) free_places[r] = slices[r].count;
+  // Simulators of each design taken on each rank by the environments placed so far.
+  std::vector<std::vector<int>> taken(ranks);
+  const auto held = [&](std::size_t r, std::size_t d) {
+    return d < build.held[r].size() ? build.held[r][d] : 0;
+  };
+  const auto taken_of = [&](std::size_t r, std::size_t d) -> int& {
+    if (taken[r].size() <= d) taken[r].resize(d + 1, 0);
+    return taken[r][d];
+  };
+  // What rank r builds to step environment i now.
+  const auto extra = [&](std::size_t r, std::size_t i) {
+    if (build.design[i] < 0) return 0.0;
+    const auto d = static_cast<std::size_t>(build.design[i]);
+    const int t = taken_of(r, d);
+    if (t < held(r, d)) return 0.0;
+    return (held(r, d) == 0 && t == 0 ? build.model : 0.0) + build.simulator;
+  };
+  const auto place = [&](std::size_t i, std::size_t r) {
+    load[r] += cost[i] + extra(r, i);
+    if (build.design[i] >= 0) ++taken_of(r, static_cast<std::size_t>(build.design[i]));
+    rank_of[i] = static_cast<int>(r);
+    --free_places[r];
+  };
   for (std::size_t i : pinned) {
     if (i >= slices[0].count || rank_of[i] != -1)
       throw std::invalid_argument("assign_by_cost: pinned environment " + std::to_string(i) +
                                   " is repeated or not on rank 0's " + std::to_string(slices[0].count) + " places");
-    rank_of[i] = 0;
-    load[0] += cost[i];
-    --free_places[0];
+    place(i, 0);
   }
 
   std::vector<std::size_t> by_cost(n);
@@ -58,11 +94,13 @@ std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const s
   for (std::size_t i : by_cost) {
     if (rank_of[i] != -1) continue;
     std::size_t best = ranks;
-    for (std::size_t r = 0; r < ranks; ++r)
-      if (free_places[r] > 0 && (best == ranks || load[r] < load[best])) best = r;
-    rank_of[i] = static_cast<int>(best);
-    load[best] += cost[i];
-    --free_places[best];
+    double best_total = 0.0;
+    for (std::size_t r = 0; r < ranks; ++r) {
+      if (free_places[r] == 0) continue;
+      const double total = load[r] + extra(r, i);
+      if (best == ranks || total < best_total) best = r, best_total = total;
+    }
+    place(i, best);
   }
 
   // Lay the ranks' environments out in ascending order; rank 0's pins first at their own places.
@@ -77,6 +115,27 @@ std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const s
     order[cursor[r]++] = i;
   }
   return order;
+}
+
+void record_held(const std::vector<std::size_t>& order, const std::vector<EnvSlice>& slices, BuildCosts& build) {
+  if (build.held.size() != slices.size())
+    throw std::invalid_argument("record_held: held simulators for " + std::to_string(build.held.size()) +
+                                " ranks, not " + std::to_string(slices.size()));
+  for (std::size_t r = 0; r < slices.size(); ++r) {
+    std::vector<int> here;
+    for (std::size_t j = slices[r].first; j < slices[r].first + slices[r].count; ++j) {
+      if (j >= order.size() || order[j] >= build.design.size())
+        throw std::invalid_argument("record_held: place " + std::to_string(j) + " has no environment");
+      const int d = build.design[order[j]];
+      if (d < 0) continue;
+      const auto k = static_cast<std::size_t>(d);
+      if (here.size() <= k) here.resize(k + 1, 0);
+      ++here[k];
+    }
+    std::vector<int>& row = build.held[r];
+    if (row.size() < here.size()) row.resize(here.size(), 0);
+    for (std::size_t d = 0; d < here.size(); ++d) row[d] = std::max(row[d], here[d]);
+  }
 }
 
 }  // namespace codesign::cluster

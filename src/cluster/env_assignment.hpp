@@ -5,9 +5,11 @@
 // Which: assign_by_cost, chosen anew at every start(), when every environment begins a new episode
 // with a new design and so can move to any rank without changing a result (env_pool.hpp: an
 // environment owns its state, draws no random numbers, and a simulator's reset() leaves no trace
-// of earlier episodes). The ranks meet at every decision, so a rank whose environments are slower
-// holds the others up; giving each rank a similar predicted cost is what --threads does within one
-// process by handing out environments one at a time.
+// of earlier episodes). The ranks meet at every decision (step by step) or once per rollout (whole
+// rollouts), so a rank whose environments are slower holds the others up; giving each rank a
+// similar predicted cost is what --threads does within one process by handing out environments
+// one at a time. A rank also builds what it has not yet built for the designs it is given
+// (BuildCosts), which one process does once for all its threads.
 #include <cstddef>
 #include <vector>
 
@@ -35,5 +37,34 @@ std::vector<EnvSlice> env_slices(std::size_t n_envs, int ranks);
 // is out of range or repeated.
 std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const std::vector<EnvSlice>& slices,
                                         const std::vector<std::size_t>& pinned);
+
+// What a rank must build before it can step an environment, on top of the environment's cost: the
+// design's model (meshing) the first time the rank gets that design, and one more simulator
+// whenever the rank steps more environments of a design at once than it ever has (each rank's
+// SimulatorPool keeps its simulators for reuse). Seconds of one rank's CPU, like the costs.
+struct BuildCosts {
+  double model = 0.0;      // one design's model, on a rank that has none of it
+  double simulator = 0.0;  // one simulator, its model built
+  std::vector<int> design;              // per environment, its design (negative: builds nothing)
+  std::vector<std::vector<int>> held;   // per rank, per design index: simulators the rank holds
+};
+
+// assign_by_cost with each rank's builds counted: an environment (costliest first, as above) goes
+// to the rank with a free place whose total, the environment's cost plus what that rank must build
+// for it, would be least after it (ties: lower rank); an environment taken by a rank uses one of
+// its held simulators of the design, or builds one. With both build costs zero this is
+// assign_by_cost above; with builds the bound above does not carry over (once a rank's slice is
+// full the others may have to take environments they must build for). Throws
+// std::invalid_argument as above, and if
+// `build` has not one design per environment and one row of held counts per rank, or a build cost
+// or held count is negative or not finite.
+std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const std::vector<EnvSlice>& slices,
+                                        const std::vector<std::size_t>& pinned, const BuildCosts& build);
+
+// After an assignment (`order`, as assign_by_cost returns it): each rank holds at least as many
+// simulators of each design as it steps environments of it now. The designs' indices beyond a
+// rank's row of held counts grow it. Throws std::invalid_argument if `build` has not one row per
+// slice or `order` does not fill the slices.
+void record_held(const std::vector<std::size_t>& order, const std::vector<EnvSlice>& slices, BuildCosts& build);
 
 }  // namespace codesign::cluster

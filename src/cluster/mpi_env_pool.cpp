@@ -136,6 +136,7 @@ MpiEnvPool::MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n
   std::iota(order_.begin(), order_.end(), std::size_t{0});
   design_of_.assign(n_envs, -1);
   design_cost_.assign(fem::kDesignCount, std::numeric_limits<double>::quiet_NaN());
+  held_.assign(slices_.size(), std::vector<int>(fem::kDesignCount, 0));
 }
 
 MpiEnvPool::~MpiEnvPool() {
@@ -199,7 +200,17 @@ std::vector<core::EpisodeSetup> MpiEnvPool::assign(const std::vector<core::Episo
     if (d >= 0 && d < static_cast<int>(design_cost_.size()) && std::isfinite(design_cost_[static_cast<std::size_t>(d)]))
       predicted[i] = design_cost_[static_cast<std::size_t>(d)];
   }
-  if (known > 0.0 && share_by_cost_) order_ = assign_by_cost(predicted, slices_, pinned_);
+  // What a rank builds for a design new to it: rank 0's own builds so far, per model and per
+  // simulator (all ranks run the same code; before rank 0 has built anything, nothing).
+  const core::SimulatorPool& sims = local_->simulators();
+  const double model_s = sims.model_seconds(), simulator_s = sims.build_seconds() - model_s;
+  BuildCosts build{sims.models_built() > 0 ? model_s / sims.models_built() : 0.0,
+                   sims.constructed() > 0 ? std::max(0.0, simulator_s) / sims.constructed() : 0.0,
+                   std::vector<int>(n_envs_, -1), std::move(held_)};
+  for (std::size_t i = 0; i < n_envs_; ++i) build.design[i] = setups[i].design;
+  if (known > 0.0 && share_by_cost_) order_ = assign_by_cost(predicted, slices_, pinned_, build);
+  record_held(order_, slices_, build);
+  held_ = std::move(build.held);
   ++starts_;
   if (!std::is_sorted(order_.begin(), order_.end())) ++reassigned_;  // a sorted permutation is the identity
   std::vector<core::EpisodeSetup> placed(n_envs_);

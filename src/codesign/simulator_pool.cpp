@@ -34,6 +34,8 @@ std::shared_ptr<const fem::Model> SimulatorPool::model(int design) {
   std::lock_guard<std::mutex> lock(mutex_);
   models_[design] = m;
   build_s_ += spent;
+  model_s_ += spent;
+  ++models_built_;
   return m;
 }
 
@@ -71,6 +73,16 @@ int SimulatorPool::constructed() const {
 double SimulatorPool::build_seconds() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return build_s_;
+}
+
+int SimulatorPool::models_built() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return models_built_;
+}
+
+double SimulatorPool::model_seconds() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return model_s_;
 }
 
 }  // namespace codesign::core

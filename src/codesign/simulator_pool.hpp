@@ -37,6 +37,11 @@ class SimulatorPool {
   // benches' accounting).
   int constructed() const;
   double build_seconds() const;
+  // Of those: the designs' models built so far (one per design at most) and the thread CPU
+  // seconds they took; the rest of build_seconds() went into the constructed simulators. What a
+  // rank must spend before it can step a design new to it (cluster::BuildCosts).
+  int models_built() const;
+  double model_seconds() const;
 
  private:
   const fem::WhiskerModelSpec spec_;
@@ -46,8 +51,8 @@ class SimulatorPool {
   std::vector<std::shared_ptr<const fem::Model>> models_;              // per design
   std::vector<std::vector<std::unique_ptr<fem::Simulator>>> free_;     // per design
   std::vector<std::unique_ptr<std::mutex>> build_mutex_;               // per design
-  int constructed_ = 0;
-  double build_s_ = 0.0;
+  int constructed_ = 0, models_built_ = 0;
+  double build_s_ = 0.0, model_s_ = 0.0;
 };
 
 }  // namespace codesign::core

@@ -17,6 +17,8 @@
 namespace {
 
 using codesign::cluster::assign_by_cost;
+using codesign::cluster::BuildCosts;
+using codesign::cluster::record_held;
 using codesign::cluster::env_slice;
 using codesign::cluster::env_slices;
 using codesign::cluster::EnvSlice;
@@ -131,6 +133,105 @@ TEST(AssignByCost, RandomCostsGiveAPermutationWithinTheGreedyBound) {
   }
 }
 
+// Each rank's total with its builds, recounted from the final order: a rank that steps k
+// environments of a design it holds h simulators of builds max(0, k - h) simulators, and the
+// design's model too if h = 0 < k.
+std::vector<double> totals(const std::vector<double>& cost, const std::vector<EnvSlice>& slices,
+                           const std::vector<std::size_t>& order, const BuildCosts& b) {
+  std::vector<double> l = loads(cost, slices, order);
+  for (std::size_t r = 0; r < slices.size(); ++r) {
+    std::vector<int> k;
+    for (std::size_t j = slices[r].first; j < slices[r].first + slices[r].count; ++j) {
+      const int d = b.design[order[j]];
+      if (d < 0) continue;
+      if (k.size() <= static_cast<std::size_t>(d)) k.resize(static_cast<std::size_t>(d) + 1, 0);
+      ++k[static_cast<std::size_t>(d)];
+    }
+    for (std::size_t d = 0; d < k.size(); ++d) {
+      const int h = d < b.held[r].size() ? b.held[r][d] : 0;
+      if (h == 0 && k[d] > 0) l[r] += b.model;
+      l[r] += std::max(0, k[d] - h) * b.simulator;
+    }
+  }
+  return l;
+}
+
+// Four equal costs, designs 3, 8, 3, 8; rank 0 holds a simulator of 8, rank 1 one of 3 (model 0.5,
+// simulator 0.25). Environment 0 (3): rank 0 would build 0.75, rank 1 nothing -> rank 1 (1).
+// 1 (8): rank 0, nothing to build (0 < 1.75) -> rank 0 (1). 2 (3): rank 0 1 + 0.75, rank 1 1 + 0.25
+// (its one simulator is taken) -> rank 1 (2.25). 3 (8): rank 1 is full -> rank 0, 1 + 0.25 (2.25).
+// Without the builds the ties would deal 0 and 2 to rank 0, which holds neither.
+TEST(AssignByCost, BuildsSendADesignToTheRankThatHoldsIt) {
+  const std::vector<double> cost(4, 1.0);
+  const auto slices = env_slices(4, 2);
+  BuildCosts b{0.5, 0.25, {3, 8, 3, 8}, {std::vector<int>(9, 0), std::vector<int>(9, 0)}};
+  b.held[0][8] = 1;
+  b.held[1][3] = 1;
+  const std::vector<std::size_t> order = assign_by_cost(cost, slices, {}, b);
+  EXPECT_EQ(order, (std::vector<std::size_t>{1, 3, 0, 2}));
+  EXPECT_EQ(totals(cost, slices, order, b), (std::vector<double>{2.25, 2.25}));
+  EXPECT_EQ(assign_by_cost(cost, slices, {}), (std::vector<std::size_t>{0, 2, 1, 3}));
+  // Afterwards each rank holds what it steps now, and keeps what it held.
+  record_held(order, slices, b);
+  EXPECT_EQ(b.held[0][8], 2);
+  EXPECT_EQ(b.held[0][3], 0);
+  EXPECT_EQ(b.held[1][3], 2);
+  EXPECT_EQ(b.held[1][8], 0);
+  // A rank with no row for a design yet grows one; a negative design builds nothing.
+  BuildCosts grow{1.0, 1.0, {12, -1}, {{}, {}}};
+  record_held({0, 1}, env_slices(2, 2), grow);
+  std::vector<int> want(13, 0);
+  want[12] = 1;
+  EXPECT_EQ(grow.held[0], want);
+  EXPECT_TRUE(grow.held[1].empty());
+}
+
+// Random costs, designs and held simulators: with both build costs zero the order is the plain
+// rule's; with them, a permutation, each rank's environments in ascending order. (The plain rule's
+// bound on the spread does not carry over: once a rank's slice is full the others may have to take
+// environments they must build for, so the builds are a heuristic's input, judged by whole runs:
+// docs/cluster.md.)
+TEST(AssignByCost, RandomBuildsKeepThePlainRuleAtZeroCost) {
+  std::mt19937_64 rng(20261206);
+  std::uniform_real_distribution<double> u(0.05, 1.0);
+  for (int trial = 0; trial < 400; ++trial) {
+    const std::size_t n = 1 + rng() % 48;
+    const int ranks = 1 + static_cast<int>(rng() % std::min<std::size_t>(n, 9));
+    const auto slices = env_slices(n, ranks);
+    std::vector<double> cost(n);
+    for (double& c : cost) c = u(rng);
+    BuildCosts b{0.0, 0.0, std::vector<int>(n), std::vector<std::vector<int>>(static_cast<std::size_t>(ranks))};
+    for (int& d : b.design) d = static_cast<int>(rng() % 12) - 1;  // -1: builds nothing
+    for (std::vector<int>& row : b.held) {
+      row.assign(rng() % 12, 0);
+      for (int& h : row) h = static_cast<int>(rng() % 3);
+    }
+    EXPECT_EQ(assign_by_cost(cost, slices, {}, b), assign_by_cost(cost, slices, {})) << "trial " << trial;
+    b.model = 0.5 * u(rng);
+    b.simulator = 0.5 * u(rng);
+    const std::vector<std::size_t> order = assign_by_cost(cost, slices, {}, b);
+    std::vector<std::size_t> sorted = order;
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t j = 0; j < n; ++j) ASSERT_EQ(sorted[j], j);
+    for (const EnvSlice& sl : slices)
+      for (std::size_t j = sl.first + 1; j < sl.first + sl.count; ++j) EXPECT_LT(order[j - 1], order[j]);
+  }
+}
+
+// Builds only tip the balance by their size: rank 0 holds design 5, but after 2 (cost 3) went to
+// rank 0 and 1 (cost 1) to rank 1, environment 0 (cost 0.5, design 5) would total 3.5 on rank 0 and
+// 1 + 0.5 + 0.2 + 0.1 = 1.8 on rank 1, which builds for it; rank 1 is then full and 3 goes to
+// rank 0 (3.25).
+TEST(AssignByCost, BuildsDoNotOutweighALargerImbalance) {
+  const std::vector<double> cost = {0.5, 1.0, 3.0, 0.25};
+  const auto slices = env_slices(4, 2);
+  BuildCosts b{0.2, 0.1, {5, -1, -1, -1}, {std::vector<int>(6, 0), {}}};
+  b.held[0][5] = 1;
+  const std::vector<std::size_t> order = assign_by_cost(cost, slices, {}, b);
+  EXPECT_EQ(order, (std::vector<std::size_t>{2, 3, 0, 1}));
+  EXPECT_EQ(totals(cost, slices, order, b), (std::vector<double>{3.25, 1.8}));
+}
+
 TEST(AssignByCost, BadInputIsRefused) {
   const auto slices = env_slices(4, 2);
   EXPECT_THROW(assign_by_cost({1, 1, 1}, slices, {}), std::invalid_argument);           // 3 costs, 4 places
@@ -141,6 +242,27 @@ TEST(AssignByCost, BadInputIsRefused) {
   EXPECT_THROW(assign_by_cost({1, 1, 1, 1}, slices, {1, 1}), std::invalid_argument);    // repeated
   EXPECT_THROW(assign_by_cost({1, 1, 1, 1}, {{0, 2}, {3, 2}}, {}), std::invalid_argument);  // a gap
   EXPECT_THROW(assign_by_cost({}, {}, {}), std::invalid_argument);                      // no rank
+  const std::vector<double> c(4, 1.0);
+  const BuildCosts ok{0.1, 0.1, {0, 1, 2, 3}, {{}, {}}};
+  EXPECT_NO_THROW(assign_by_cost(c, slices, {}, ok));
+  BuildCosts bad = ok;
+  bad.design.pop_back();  // 3 designs for 4 environments
+  EXPECT_THROW(assign_by_cost(c, slices, {}, bad), std::invalid_argument);
+  bad = ok;
+  bad.held.pop_back();  // 1 row for 2 ranks
+  EXPECT_THROW(assign_by_cost(c, slices, {}, bad), std::invalid_argument);
+  EXPECT_THROW(record_held({0, 1, 2, 3}, slices, bad), std::invalid_argument);
+  bad = ok;
+  bad.model = -0.1;
+  EXPECT_THROW(assign_by_cost(c, slices, {}, bad), std::invalid_argument);
+  bad = ok;
+  bad.simulator = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(assign_by_cost(c, slices, {}, bad), std::invalid_argument);
+  bad = ok;
+  bad.held[1] = {0, -1};
+  EXPECT_THROW(assign_by_cost(c, slices, {}, bad), std::invalid_argument);
+  BuildCosts short_order = ok;
+  EXPECT_THROW(record_held({0, 1, 2}, slices, short_order), std::invalid_argument);  // a place left empty
 }
 
 }  // namespace

@@ -61,9 +61,10 @@ TEST(ThreadEnvPool, StepObserverSeesTheEndOfEveryNthDecision) {
 }
 
 // build_seconds() counts the CPU of meshing designs and constructing simulators, and nothing when
-// the environments keep the simulators they have. Swapping the two designs (one thread, in either
-// order) builds exactly one more: the first environment to start gives its simulator back and finds
-// the other design's still held, the second finds the first one's free.
+// the environments keep the simulators they have; model_seconds() is the meshing's part of it.
+// Swapping the two designs (one thread, in either order) builds exactly one more simulator and no
+// model: the first environment to start gives its simulator back and finds the other design's
+// still held, the second finds the first one's free.
 TEST(ThreadEnvPool, BuildSecondsCountBuildsNotLeases) {
   auto sims = std::make_shared<core::SimulatorPool>(fem::WhiskerModelSpec{}, fem::SceneConfig{}, fem::SolverConfig{});
   const core::TaskConfig task;
@@ -75,12 +76,20 @@ TEST(ThreadEnvPool, BuildSecondsCountBuildsNotLeases) {
   const double first = pool.build_seconds();
   EXPECT_GT(first, 0.0);
   EXPECT_EQ(first, sims->build_seconds());
+  // Two designs meshed; their models are part of the builds, the two simulators the rest.
+  EXPECT_EQ(sims->models_built(), 2);
+  EXPECT_EQ(&pool.simulators(), sims.get());
+  const double models = sims->model_seconds();
+  EXPECT_GT(models, 0.0);
+  EXPECT_LT(models, first);
   pool.start({a, b});  // each environment keeps its simulator
   EXPECT_EQ(sims->constructed(), 2);
   EXPECT_EQ(pool.build_seconds(), first);
   pool.start({b, a});
   EXPECT_EQ(sims->constructed(), 3);
   EXPECT_GT(pool.build_seconds(), first);
+  EXPECT_EQ(sims->models_built(), 2);  // a third simulator, of a design already meshed
+  EXPECT_EQ(sims->model_seconds(), models);
 }
 
 }  // namespace
