@@ -31,7 +31,8 @@ std::vector<EnvSlice> env_slices(std::size_t n_envs, int ranks);
 // there. The others go, costliest first (ties: lower index first), to the rank with the least
 // predicted cost so far among those with a free place (ties: lower rank) — the greedy
 // longest-processing-time rule with the slices' sizes as capacities; so no rank's total exceeds
-// another's by more than the largest single cost, unless pins force it. Within a rank the
+// another's by more than the largest single cost, unless pins force it; then swaps between two
+// ranks that lower the larger of their totals (the overload below, without builds). Within a rank the
 // environments keep ascending order around the pins. Throws std::invalid_argument if the slices
 // do not cover cost.size() places contiguously from 0, a cost is negative or not finite, or a pin
 // is out of range or repeated.
@@ -52,10 +53,12 @@ struct BuildCosts {
 // assign_by_cost with each rank's builds counted: an environment (costliest first, as above) goes
 // to the rank with a free place whose total, the environment's cost plus what that rank must build
 // for it, would be least after it (ties: lower rank); an environment taken by a rank uses one of
-// its held simulators of the design, or builds one. With both build costs zero this is
-// assign_by_cost above; with builds the bound above does not carry over (once a rank's slice is
-// full the others may have to take environments they must build for). Throws
-// std::invalid_argument as above, and if
+// its held simulators of the design, or builds one. Then, since that greedy places one environment
+// at a time, two environments on two ranks swap places while that lowers the larger of the two
+// ranks' totals, or keeps it and lowers their sum (fewer builds), until no swap does (pins stay).
+// The plain assign_by_cost above is this with both build costs zero; the swaps only narrow its
+// bound. With builds the bound does not carry over (once a rank's slice is full the others may
+// have to take environments they must build for). Throws std::invalid_argument as above, and if
 // `build` has not one design per environment and one row of held counts per rank, or a build cost
 // or held count is negative or not finite.
 std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const std::vector<EnvSlice>& slices,

@@ -187,7 +187,8 @@ TEST(AssignByCost, BuildsSendADesignToTheRankThatHoldsIt) {
 }
 
 // Random costs, designs and held simulators: with both build costs zero the order is the plain
-// rule's; with them, a permutation, each rank's environments in ascending order. (The plain rule's
+// rule's; with them, a permutation, each rank's environments in ascending order, that no swap
+// improves (the swaps' rule, checked on totals recounted from the order). (The plain rule's
 // bound on the spread does not carry over: once a rank's slice is full the others may have to take
 // environments they must build for, so the builds are a heuristic's input, judged by whole runs:
 // docs/cluster.md.)
@@ -215,6 +216,24 @@ TEST(AssignByCost, RandomBuildsKeepThePlainRuleAtZeroCost) {
     for (std::size_t j = 0; j < n; ++j) ASSERT_EQ(sorted[j], j);
     for (const EnvSlice& sl : slices)
       for (std::size_t j = sl.first + 1; j < sl.first + sl.count; ++j) EXPECT_LT(order[j - 1], order[j]);
+    // No swap of two environments between two ranks lowers the larger of their totals, or keeps it
+    // and lowers their sum (recounted here from the order).
+    const std::vector<double> l = totals(cost, slices, order, b);
+    std::vector<std::size_t> rank_at(n);
+    for (std::size_t r = 0; r < slices.size(); ++r)
+      for (std::size_t j = slices[r].first; j < slices[r].first + slices[r].count; ++j) rank_at[j] = r;
+    for (std::size_t p = 0; p < n; ++p)
+      for (std::size_t q = p + 1; q < n; ++q) {
+        const std::size_t a = rank_at[p], c = rank_at[q];
+        if (a == c) continue;
+        std::vector<std::size_t> swapped = order;
+        std::swap(swapped[p], swapped[q]);
+        const std::vector<double> m = totals(cost, slices, swapped, b);
+        // The rule compares to 1e-9 s; flagged here only what lies clearly beyond that.
+        const double was = std::max(l[a], l[c]), now = std::max(m[a], m[c]);
+        EXPECT_FALSE(now < was - 2e-9 || (now <= was + 0.5e-9 && m[a] + m[c] < l[a] + l[c] - 2e-9))
+            << "trial " << trial << ": swapping places " << p << " and " << q << " improves";
+      }
   }
 }
 
@@ -230,6 +249,23 @@ TEST(AssignByCost, BuildsDoNotOutweighALargerImbalance) {
   const std::vector<std::size_t> order = assign_by_cost(cost, slices, {}, b);
   EXPECT_EQ(order, (std::vector<std::size_t>{2, 3, 0, 1}));
   EXPECT_EQ(totals(cost, slices, order, b), (std::vector<double>{3.25, 1.8}));
+}
+
+// The swaps after the greedy: costs 1, 0.5, 0.45, 0.4 of designs 1, 2, 3, 4, rank 0 holding 2,
+// model 0.1. The greedy: 0 to rank 0 (1.1); 1 to rank 1 (0.1 + 0.5 = 0.6 < 1.1, though rank 0
+// holds it); 2 to rank 1 (1.15 < 1.2), now full; 3 to rank 0 (1.6). Swapping 1 and 3 keeps the
+// larger total 1.6 (rank 0: 1 + 0.1 + 0.5) and lowers rank 1's to 0.45 + 0.4 + 0.2 = 1.05; no swap
+// improves on that.
+TEST(AssignByCost, SwapsGiveAHeldDesignBackToItsHolder) {
+  const std::vector<double> cost = {1.0, 0.5, 0.45, 0.4};
+  const auto slices = env_slices(4, 2);
+  BuildCosts b{0.1, 0.0, {1, 2, 3, 4}, {std::vector<int>(5, 0), {}}};
+  b.held[0][2] = 1;
+  const std::vector<std::size_t> order = assign_by_cost(cost, slices, {}, b);
+  EXPECT_EQ(order, (std::vector<std::size_t>{0, 1, 2, 3}));
+  const std::vector<double> t = totals(cost, slices, order, b);
+  EXPECT_NEAR(t[0], 1.6, 1e-12);
+  EXPECT_NEAR(t[1], 1.05, 1e-12);
 }
 
 TEST(AssignByCost, BadInputIsRefused) {
