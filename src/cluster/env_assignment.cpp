@@ -2,11 +2,42 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <utility>
+
+#include "fem/design.hpp"
 
 namespace codesign::cluster {
+
+std::vector<double> predict_costs(const std::vector<double>& design_cost, const std::vector<int>& env_design) {
+  const auto known = [&](int d) {
+    return d >= 0 && static_cast<std::size_t>(d) < design_cost.size() && std::isfinite(design_cost[static_cast<std::size_t>(d)]);
+  };
+  const auto wall_of = [](int d) { return d < fem::kDesignCount ? fem::design_from_index(d).wall_mm : -1.0; };
+  double sum = 0.0, count = 0.0;
+  std::map<double, std::pair<double, double>> by_wall;  // wall thickness -> sum, count of the known
+  for (std::size_t d = 0; d < design_cost.size(); ++d)
+    if (known(static_cast<int>(d))) {
+      sum += design_cost[d], count += 1.0;
+      auto& w = by_wall[wall_of(static_cast<int>(d))];
+      w.first += design_cost[d], w.second += 1.0;
+    }
+  if (count == 0.0) return {};
+  std::vector<double> predicted(env_design.size(), sum / count);
+  for (std::size_t i = 0; i < env_design.size(); ++i) {
+    const int d = env_design[i];
+    if (known(d)) {
+      predicted[i] = design_cost[static_cast<std::size_t>(d)];
+    } else if (d >= 0 && d < fem::kDesignCount) {
+      const auto w = by_wall.find(wall_of(d));
+      if (w != by_wall.end()) predicted[i] = w->second.first / w->second.second;
+    }
+  }
+  return predicted;
+}
 
 EnvSlice env_slice(std::size_t n_envs, int rank, int ranks) {
   if (ranks < 1 || rank < 0 || rank >= ranks)

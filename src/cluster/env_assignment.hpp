@@ -25,6 +25,15 @@ EnvSlice env_slice(std::size_t n_envs, int rank, int ranks);
 // env_slice of every rank, rank 0 first (the same errors).
 std::vector<EnvSlice> env_slices(std::size_t n_envs, int ranks);
 
+// Each environment's predicted cost for assign_by_cost, from `design_cost` (per design index
+// 0..109, the CPU seconds of its settles and steps in the last iteration that stepped it; NaN where
+// not yet stepped): a known design's own cost; a design not yet stepped, the mean of the known
+// designs of its wall thickness, which sets most of a design's cost (traced two-rank runs of
+// paper.toml: about 0.8 s per iteration at 2.0 mm, 0.3 s at 4.0 mm; docs/cluster.md, session 28),
+// or of all known designs if none of that thickness is known; an environment without a valid
+// design, the mean of all. Empty if no design is known.
+std::vector<double> predict_costs(const std::vector<double>& design_cost, const std::vector<int>& env_design);
+
 // A permutation `order` of the environments 0 .. cost.size()-1: place j of the slices (rank r has
 // places [slices[r].first, + count)) steps environment order[j]. Pinned environments (each below
 // slices[0].count) stay on rank 0 at their own place (order[i] == i): live telemetry follows them

@@ -188,27 +188,19 @@ void MpiEnvPool::learn_costs() {
 std::vector<core::EpisodeSetup> MpiEnvPool::assign(const std::vector<core::EpisodeSetup>& setups) {
   if (setups.size() != n_envs_) throw std::invalid_argument("MpiEnvPool::start: one setup per environment");
   if (starts_ > 0) learn_costs();
-  // Predicted cost of each environment: its design's last cost; designs not yet stepped, the mean
-  // of those known. Before any is known (the first start) the slices stay contiguous.
-  double known_sum = 0.0, known = 0.0;
-  for (double c : design_cost_)
-    if (std::isfinite(c)) known_sum += c, known += 1.0;
-  const double unknown = known > 0.0 ? known_sum / known : 1.0;
-  std::vector<double> predicted(n_envs_, unknown);
-  for (std::size_t i = 0; i < n_envs_; ++i) {
-    const int d = setups[i].design;
-    if (d >= 0 && d < static_cast<int>(design_cost_.size()) && std::isfinite(design_cost_[static_cast<std::size_t>(d)]))
-      predicted[i] = design_cost_[static_cast<std::size_t>(d)];
-  }
+  // Predicted cost of each environment (predict_costs). Before any design is known (the first
+  // start) the slices stay contiguous.
+  std::vector<int> designs(n_envs_);
+  for (std::size_t i = 0; i < n_envs_; ++i) designs[i] = setups[i].design;
+  const std::vector<double> predicted = predict_costs(design_cost_, designs);
   // What a rank builds for a design new to it: rank 0's own builds so far, per model and per
   // simulator (all ranks run the same code; before rank 0 has built anything, nothing).
   const core::SimulatorPool& sims = local_->simulators();
   const double model_s = sims.model_seconds(), simulator_s = sims.build_seconds() - model_s;
   BuildCosts build{sims.models_built() > 0 ? model_s / sims.models_built() : 0.0,
                    sims.constructed() > 0 ? std::max(0.0, simulator_s) / sims.constructed() : 0.0,
-                   std::vector<int>(n_envs_, -1), std::move(held_)};
-  for (std::size_t i = 0; i < n_envs_; ++i) build.design[i] = setups[i].design;
-  if (known > 0.0 && share_by_cost_) order_ = assign_by_cost(predicted, slices_, pinned_, build);
+                   designs, std::move(held_)};
+  if (!predicted.empty() && share_by_cost_) order_ = assign_by_cost(predicted, slices_, pinned_, build);
   record_held(order_, slices_, build);
   held_ = std::move(build.held);
   ++starts_;

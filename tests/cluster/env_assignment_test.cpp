@@ -18,6 +18,7 @@ namespace {
 
 using codesign::cluster::assign_by_cost;
 using codesign::cluster::BuildCosts;
+using codesign::cluster::predict_costs;
 using codesign::cluster::record_held;
 using codesign::cluster::env_slice;
 using codesign::cluster::env_slices;
@@ -266,6 +267,27 @@ TEST(AssignByCost, SwapsGiveAHeldDesignBackToItsHolder) {
   const std::vector<double> t = totals(cost, slices, order, b);
   EXPECT_NEAR(t[0], 1.6, 1e-12);
   EXPECT_NEAR(t[1], 1.05, 1e-12);
+}
+
+// Designs 0..4 are {1, 20 mm, 2.0..4.0 mm}, 5..9 {1, 22 mm, 2.0..4.0 mm} (fem/design.hpp's index):
+// 0 and 5 share the thickness 2.0 mm, 1 and 6 2.5 mm; 2, 7, 12 are 3.0 mm.
+TEST(PredictCosts, UnknownDesignsTakeTheMeanOfTheirWallThickness) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> cost(110, nan);
+  EXPECT_TRUE(predict_costs(cost, {0, 1}).empty());  // nothing known yet
+  cost[0] = 0.8;
+  cost[5] = 0.6;
+  cost[1] = 0.5;
+  cost[2] = 0.3;
+  const std::vector<double> p = predict_costs(cost, {0, 10, 6, 7, 3, -1, 110});
+  ASSERT_EQ(p.size(), 7u);
+  EXPECT_EQ(p[0], 0.8);               // known: its own
+  EXPECT_DOUBLE_EQ(p[1], 0.7);        // 10 = {1, 24 mm, 2.0 mm}: mean of 0 and 5
+  EXPECT_EQ(p[2], 0.5);               // 6 (2.5 mm): design 1's
+  EXPECT_EQ(p[3], 0.3);               // 7 (3.0 mm): design 2's
+  EXPECT_DOUBLE_EQ(p[4], 2.2 / 4.0);  // 3 (3.5 mm): none known of it, the mean of all four
+  EXPECT_DOUBLE_EQ(p[5], 2.2 / 4.0);  // no design
+  EXPECT_DOUBLE_EQ(p[6], 2.2 / 4.0);  // beyond the 110
 }
 
 TEST(AssignByCost, BadInputIsRefused) {
