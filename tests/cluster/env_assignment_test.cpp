@@ -79,6 +79,24 @@ TEST(EnvSlice, RankCountsThatLeaveARankEmptyAreRefused) {
 // Costliest first: 1 (9) to rank 1 (load 0 < 1); 2 (8) to rank 0 (1 < 9); 4 (7) to rank 0 (9 = 9,
 // the lower rank; now full); 5 (3) and 3 (2) to rank 1. Loads 16 and 14, where the contiguous
 // slices {0, 1, 2} and {3, 4, 5} would carry 18 and 12.
+// 1 to 48 environments on 1 to 9 ranks (never more ranks than environments), costs in [0.05, 1).
+struct RandomCase {
+  std::size_t n;
+  int ranks;
+  std::vector<EnvSlice> slices;
+  std::vector<double> cost;
+};
+RandomCase random_case(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.05, 1.0);
+  RandomCase c;
+  c.n = 1 + rng() % 48;
+  c.ranks = 1 + static_cast<int>(rng() % std::min<std::size_t>(c.n, 9));
+  c.slices = env_slices(c.n, c.ranks);
+  c.cost.resize(c.n);
+  for (double& x : c.cost) x = u(rng);
+  return c;
+}
+
 TEST(AssignByCost, HandWorkedSplitOfSixOverTwoRanks) {
   const std::vector<double> cost = {1, 9, 8, 2, 7, 3};
   const auto slices = env_slices(6, 2);
@@ -107,13 +125,8 @@ TEST(AssignByCost, TiesDealInIndexAndRankOrder) {
 // the others then took only environments no costlier than every one before).
 TEST(AssignByCost, RandomCostsGiveAPermutationWithinTheGreedyBound) {
   std::mt19937_64 rng(20261204);
-  std::uniform_real_distribution<double> u(0.05, 1.0);
   for (int trial = 0; trial < 400; ++trial) {
-    const std::size_t n = 1 + rng() % 48;
-    const int ranks = 1 + static_cast<int>(rng() % std::min<std::size_t>(n, 9));
-    const auto slices = env_slices(n, ranks);
-    std::vector<double> cost(n);
-    for (double& c : cost) c = u(rng);
+    const auto [n, ranks, slices, cost] = random_case(rng);
     const bool pin = trial % 2 == 1;
     const std::vector<std::size_t> pinned = pin ? std::vector<std::size_t>{0} : std::vector<std::size_t>{};
     const std::vector<std::size_t> order = assign_by_cost(cost, slices, pinned);
@@ -197,11 +210,7 @@ TEST(AssignByCost, RandomBuildsKeepThePlainRuleAtZeroCost) {
   std::mt19937_64 rng(20261206);
   std::uniform_real_distribution<double> u(0.05, 1.0);
   for (int trial = 0; trial < 400; ++trial) {
-    const std::size_t n = 1 + rng() % 48;
-    const int ranks = 1 + static_cast<int>(rng() % std::min<std::size_t>(n, 9));
-    const auto slices = env_slices(n, ranks);
-    std::vector<double> cost(n);
-    for (double& c : cost) c = u(rng);
+    const auto [n, ranks, slices, cost] = random_case(rng);
     BuildCosts b{0.0, 0.0, std::vector<int>(n), std::vector<std::vector<int>>(static_cast<std::size_t>(ranks))};
     for (int& d : b.design) d = static_cast<int>(rng() % 12) - 1;  // -1: builds nothing
     for (std::vector<int>& row : b.held) {
