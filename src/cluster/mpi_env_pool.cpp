@@ -194,7 +194,8 @@ std::vector<core::EpisodeSetup> MpiEnvPool::assign(const std::vector<core::Episo
   for (std::size_t i = 0; i < n_envs_; ++i) designs[i] = setups[i].design;
   const std::vector<double> predicted = predict_costs(design_cost_, designs);
   // What a rank builds for a design new to it: rank 0's own builds so far, per model and per
-  // simulator (all ranks run the same code; before rank 0 has built anything, nothing).
+  // simulator (all ranks run the same code; before rank 0 has built anything, nothing). On nodes
+  // of different speeds rank 0's seconds stand for every rank's: a prediction, never a result.
   const core::SimulatorPool& sims = local_->simulators();
   const double model_s = sims.model_seconds(), simulator_s = sims.build_seconds() - model_s;
   BuildCosts build{sims.models_built() > 0 ? model_s / sims.models_built() : 0.0,
