@@ -98,14 +98,20 @@ std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const s
     if (taken[r].size() <= d) taken[r].resize(d + 1, 0);
     return taken[r][d];
   };
-  // What rank r builds to step environment i now.
-  const auto extra = [&](std::size_t r, std::size_t i) {
-    if (build.design[i] < 0) return 0.0;
-    const auto d = static_cast<std::size_t>(build.design[i]);
-    const int t = taken_of(r, d);
-    if (t < held(r, d)) return 0.0;
-    return (held(r, d) == 0 && t == 0 ? build.model : 0.0) + build.simulator;
+  // What rank r builds to step k environments of design d, and what it builds more if it steps
+  // `by` more of d than it has taken so far (negative d: nothing).
+  const auto builds = [&](std::size_t r, std::size_t d, int k) {
+    if (k <= 0) return 0.0;
+    const int h = held(r, d);
+    return (h == 0 ? build.model : 0.0) + std::max(0, k - h) * build.simulator;
   };
+  const auto change = [&](std::size_t r, int d, int by) {
+    if (d < 0) return 0.0;
+    const auto k = static_cast<std::size_t>(d);
+    const int now = taken_of(r, k);
+    return builds(r, k, now + by) - builds(r, k, now);
+  };
+  const auto extra = [&](std::size_t r, std::size_t i) { return change(r, build.design[i], +1); };
   const auto place = [&](std::size_t i, std::size_t r) {
     load[r] += cost[i] + extra(r, i);
     if (build.design[i] >= 0) ++taken_of(r, static_cast<std::size_t>(build.design[i]));
@@ -140,17 +146,6 @@ std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const s
   // Each swap keeps every slice's size. Totals are compared to 1e-9 s. Passes over all pairs go on
   // until none swaps, at most 64 (a swap that lowers the larger total may raise the sum, so no
   // single measure falls at every swap; the random cases of the tests needed at most 10).
-  const auto builds = [&](std::size_t r, std::size_t d, int k) {  // rank r stepping k of design d
-    if (k <= 0) return 0.0;
-    const int h = held(r, d);
-    return (h == 0 ? build.model : 0.0) + std::max(0, k - h) * build.simulator;
-  };
-  const auto change = [&](std::size_t r, int d, int by) {  // rank r's builds if it steps `by` more of d
-    if (d < 0) return 0.0;
-    const auto k = static_cast<std::size_t>(d);
-    const int now = taken_of(r, k);
-    return builds(r, k, now + by) - builds(r, k, now);
-  };
   std::vector<char> is_pinned(n, 0);
   for (std::size_t i : pinned) is_pinned[i] = 1;
   for (int pass = 0; pass < 64; ++pass) {

@@ -136,7 +136,7 @@ MpiEnvPool::MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n
   std::iota(order_.begin(), order_.end(), std::size_t{0});
   design_of_.assign(n_envs, -1);
   design_cost_.assign(fem::kDesignCount, std::numeric_limits<double>::quiet_NaN());
-  held_.assign(slices_.size(), std::vector<int>(fem::kDesignCount, 0));
+  build_.held.assign(slices_.size(), std::vector<int>(fem::kDesignCount, 0));
 }
 
 MpiEnvPool::~MpiEnvPool() {
@@ -190,20 +190,18 @@ std::vector<core::EpisodeSetup> MpiEnvPool::assign(const std::vector<core::Episo
   if (starts_ > 0) learn_costs();
   // Predicted cost of each environment (predict_costs). Before any design is known (the first
   // start) the slices stay contiguous.
-  std::vector<int> designs(n_envs_);
-  for (std::size_t i = 0; i < n_envs_; ++i) designs[i] = setups[i].design;
-  const std::vector<double> predicted = predict_costs(design_cost_, designs);
+  build_.design.resize(n_envs_);
+  for (std::size_t i = 0; i < n_envs_; ++i) build_.design[i] = setups[i].design;
+  const std::vector<double> predicted = predict_costs(design_cost_, build_.design);
   // What a rank builds for a design new to it: rank 0's own builds so far, per model and per
   // simulator (all ranks run the same code; before rank 0 has built anything, nothing). On nodes
   // of different speeds rank 0's seconds stand for every rank's: a prediction, never a result.
   const core::SimulatorPool& sims = local_->simulators();
   const double model_s = sims.model_seconds(), simulator_s = sims.build_seconds() - model_s;
-  BuildCosts build{sims.models_built() > 0 ? model_s / sims.models_built() : 0.0,
-                   sims.constructed() > 0 ? std::max(0.0, simulator_s) / sims.constructed() : 0.0,
-                   designs, std::move(held_)};
-  if (!predicted.empty() && share_by_cost_) order_ = assign_by_cost(predicted, slices_, pinned_, build);
-  record_held(order_, slices_, build);
-  held_ = std::move(build.held);
+  build_.model = sims.models_built() > 0 ? model_s / sims.models_built() : 0.0;
+  build_.simulator = sims.constructed() > 0 ? std::max(0.0, simulator_s) / sims.constructed() : 0.0;
+  if (!predicted.empty() && share_by_cost_) order_ = assign_by_cost(predicted, slices_, pinned_, build_);
+  record_held(order_, slices_, build_);
   ++starts_;
   if (!std::is_sorted(order_.begin(), order_.end())) ++reassigned_;  // a sorted permutation is the identity
   std::vector<core::EpisodeSetup> placed(n_envs_);

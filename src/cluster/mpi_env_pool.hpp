@@ -104,7 +104,7 @@ class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
   std::vector<std::size_t> pinned_;      // environments with a step observer (on rank 0, own place)
   std::vector<int> design_of_;           // per environment, the design of the last start (-1: none)
   std::vector<double> design_cost_;      // per design, CPU seconds in its last iteration (NaN: unknown)
-  std::vector<std::vector<int>> held_;   // per rank, per design: simulators it holds (record_held)
+  BuildCosts build_;                     // what each rank holds (record_held) and builds, for the split
   rl::VecStepResult placed_;             // a step's results in place order, before they are put back
   std::vector<int> placed_in_band_;
   Eigen::MatrixXd placed_actions_;
