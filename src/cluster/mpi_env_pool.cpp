@@ -7,11 +7,9 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
-#include <thread>
-
-#include <mpi.h>
 
 #include "base/seconds_since.hpp"
+#include "cluster/mpi_wait.hpp"
 #include "cluster/rollout_messages.hpp"
 #include "fem/design.hpp"
 
@@ -27,35 +25,8 @@ namespace {
 enum Command : int { kStop = 0, kStart = 1, kStep = 2, kTimes = 3, kPing = 4, kCosts = 5, kRollout = 6 };
 constexpr int kTagCommand = 101, kTagPayload = 102, kTagReply = 103, kTagReasons = 104;
 
-void check(int rc, const char* what) {
-  if (rc == MPI_SUCCESS) return;
-  char text[MPI_MAX_ERROR_STRING];
-  int len = 0;
-  MPI_Error_string(rc, text, &len);
-  throw std::runtime_error(std::string("MPI rollout backend: ") + what + ": " + std::string(text, static_cast<std::size_t>(len)));
-}
-
 void send_doubles(const std::vector<double>& v, int to, int tag) {
   check(MPI_Send(v.data(), static_cast<int>(v.size()), MPI_DOUBLE, to, tag, MPI_COMM_WORLD), "send");
-}
-
-// Waits for a posted receive without holding a core. Open MPI's blocking calls poll the shared
-// memory transport in a loop, so a rank waiting through rank 0's PPO update (a fraction of a second
-// per iteration) would take a core from it when the ranks share a machine. This polls for up to
-// 100 µs (an answer to a step usually comes within that: docs/cluster.md), then sleeps between
-// polls, 20 µs at first, doubling up to 500 µs.
-void wait_without_spinning(MPI_Request& request, MPI_Status* status, const char* what) {
-  int done = 0;
-  const double spin_until = MPI_Wtime() + 100e-6;
-  do {
-    check(MPI_Test(&request, &done, status), what);
-  } while (!done && MPI_Wtime() < spin_until);
-  auto pause = std::chrono::microseconds(20);
-  while (!done) {
-    std::this_thread::sleep_for(pause);
-    pause = std::min(2 * pause, std::chrono::microseconds(500));
-    check(MPI_Test(&request, &done, status), what);
-  }
 }
 
 void recv_into(void* data, int count, MPI_Datatype type, int from, int tag, MPI_Status* status, const char* what) {
