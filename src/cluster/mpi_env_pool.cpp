@@ -167,10 +167,9 @@ std::vector<core::EpisodeSetup> MpiEnvPool::assign(const std::vector<core::Episo
   // What a rank builds for a design new to it: rank 0's own builds so far, per model and per
   // simulator (all ranks run the same code; before rank 0 has built anything, nothing). On nodes
   // of different speeds rank 0's seconds stand for every rank's: a prediction, never a result.
-  const core::SimulatorPool& sims = local_->simulators();
-  const double model_s = sims.model_seconds(), simulator_s = sims.build_seconds() - model_s;
-  build_.model = sims.models_built() > 0 ? model_s / sims.models_built() : 0.0;
-  build_.simulator = sims.constructed() > 0 ? std::max(0.0, simulator_s) / sims.constructed() : 0.0;
+  const core::SimulatorPool::BuildStats built = local_->simulators().build_stats();
+  build_.model = built.seconds_per_model();
+  build_.simulator = built.seconds_per_simulator();
   if (!predicted.empty() && share_by_cost_) order_ = assign_by_cost(predicted, slices_, pinned_, build_);
   record_held(order_, slices_, build_);
   ++starts_;

@@ -1,5 +1,6 @@
 #include "codesign/simulator_pool.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -33,9 +34,9 @@ std::shared_ptr<const fem::Model> SimulatorPool::model(int design) {
   const double spent = thread_cpu_seconds() - t0;
   std::lock_guard<std::mutex> lock(mutex_);
   models_[design] = m;
-  build_s_ += spent;
-  model_s_ += spent;
-  ++models_built_;
+  built_.seconds += spent;
+  built_.model_seconds += spent;
+  ++built_.models;
   return m;
 }
 
@@ -49,13 +50,13 @@ std::unique_ptr<fem::Simulator> SimulatorPool::acquire(int design) {
       list.pop_back();
       return s;
     }
-    ++constructed_;
+    ++built_.simulators;
   }
   const double t0 = thread_cpu_seconds();
   auto sim = std::make_unique<fem::Simulator>(std::move(m), scene_, solver_);
   const double spent = thread_cpu_seconds() - t0;
   std::lock_guard<std::mutex> lock(mutex_);
-  build_s_ += spent;
+  built_.seconds += spent;
   return sim;
 }
 
@@ -65,24 +66,13 @@ void SimulatorPool::release(int design, std::unique_ptr<fem::Simulator> sim) {
   free_[design].push_back(std::move(sim));
 }
 
-int SimulatorPool::constructed() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return constructed_;
+double SimulatorPool::BuildStats::seconds_per_simulator() const {
+  return simulators > 0 ? std::max(0.0, seconds - model_seconds) / simulators : 0.0;
 }
 
-double SimulatorPool::build_seconds() const {
+SimulatorPool::BuildStats SimulatorPool::build_stats() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return build_s_;
-}
-
-int SimulatorPool::models_built() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return models_built_;
-}
-
-double SimulatorPool::model_seconds() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return model_s_;
+  return built_;
 }
 
 }  // namespace codesign::core

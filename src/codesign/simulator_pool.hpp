@@ -32,16 +32,20 @@ class SimulatorPool {
   const fem::SceneConfig& scene() const { return scene_; }
   const fem::SolverConfig& solver() const { return solver_; }
   const fem::WhiskerModelSpec& spec() const { return spec_; }
-  // Simulators constructed so far, and the thread CPU seconds spent building them and the designs'
-  // models (meshing included): work of the rollouts outside their settles and FEM steps (for the
-  // benches' accounting).
-  int constructed() const;
-  double build_seconds() const;
-  // Of those: the designs' models built so far (one per design at most) and the thread CPU
-  // seconds they took; the rest of build_seconds() went into the constructed simulators. What a
-  // rank must spend before it can step a design new to it (cluster::BuildCosts).
-  int models_built() const;
-  double model_seconds() const;
+  // What the pool has built so far, read at once: simulators constructed and designs' models
+  // built (one per design at most), with the thread CPU seconds they took (meshing included). Work
+  // of the rollouts outside their settles and FEM steps (the benches' accounting), and what a rank
+  // must spend before it can step a design new to it (cluster::BuildCosts).
+  struct BuildStats {
+    int simulators = 0, models = 0;
+    double seconds = 0.0;        // all builds
+    double model_seconds = 0.0;  // of which the models; the rest went into the simulators
+    double seconds_per_model() const { return models > 0 ? model_seconds / models : 0.0; }
+    double seconds_per_simulator() const;
+  };
+  BuildStats build_stats() const;
+  int constructed() const { return build_stats().simulators; }
+  double build_seconds() const { return build_stats().seconds; }
 
  private:
   const fem::WhiskerModelSpec spec_;
@@ -51,8 +55,7 @@ class SimulatorPool {
   std::vector<std::shared_ptr<const fem::Model>> models_;              // per design
   std::vector<std::vector<std::unique_ptr<fem::Simulator>>> free_;     // per design
   std::vector<std::unique_ptr<std::mutex>> build_mutex_;               // per design
-  int constructed_ = 0, models_built_ = 0;
-  double build_s_ = 0.0, model_s_ = 0.0;
+  BuildStats built_;
 };
 
 }  // namespace codesign::core

@@ -61,7 +61,8 @@ TEST(ThreadEnvPool, StepObserverSeesTheEndOfEveryNthDecision) {
 }
 
 // build_seconds() counts the CPU of meshing designs and constructing simulators, and nothing when
-// the environments keep the simulators they have; model_seconds() is the meshing's part of it.
+// the environments keep the simulators they have; build_stats().model_seconds is the meshing's part
+// of it, and its means per model and per simulator split the builds.
 // Swapping the two designs (one thread, in either order) builds exactly one more simulator and no
 // model: the first environment to start gives its simulator back and finds the other design's
 // still held, the second finds the first one's free.
@@ -70,6 +71,8 @@ TEST(ThreadEnvPool, BuildSecondsCountBuildsNotLeases) {
   const core::TaskConfig task;
   core::ThreadEnvPool pool(sims, task, 2, 1);
   EXPECT_EQ(pool.build_seconds(), 0.0);
+  EXPECT_EQ(sims->build_stats().seconds_per_model(), 0.0);  // no build yet: no mean
+  EXPECT_EQ(sims->build_stats().seconds_per_simulator(), 0.0);
   const EpisodeSetup a{21, 2.0, 0.0, 0.5, 0.0}, b{63, 1.0, 3.0, 1.5, 0.0};
   pool.start({a, b});
   EXPECT_EQ(sims->constructed(), 2);
@@ -77,9 +80,9 @@ TEST(ThreadEnvPool, BuildSecondsCountBuildsNotLeases) {
   EXPECT_GT(first, 0.0);
   EXPECT_EQ(first, sims->build_seconds());
   // Two designs meshed; their models are part of the builds, the two simulators the rest.
-  EXPECT_EQ(sims->models_built(), 2);
+  EXPECT_EQ(sims->build_stats().models, 2);
   EXPECT_EQ(&pool.simulators(), sims.get());
-  const double models = sims->model_seconds();
+  const double models = sims->build_stats().model_seconds;
   EXPECT_GT(models, 0.0);
   EXPECT_LT(models, first);
   pool.start({a, b});  // each environment keeps its simulator
@@ -88,8 +91,11 @@ TEST(ThreadEnvPool, BuildSecondsCountBuildsNotLeases) {
   pool.start({b, a});
   EXPECT_EQ(sims->constructed(), 3);
   EXPECT_GT(pool.build_seconds(), first);
-  EXPECT_EQ(sims->models_built(), 2);  // a third simulator, of a design already meshed
-  EXPECT_EQ(sims->model_seconds(), models);
+  EXPECT_EQ(sims->build_stats().models, 2);  // a third simulator, of a design already meshed
+  const core::SimulatorPool::BuildStats built = sims->build_stats();
+  EXPECT_EQ(built.model_seconds, models);
+  EXPECT_DOUBLE_EQ(built.seconds_per_model(), models / 2.0);
+  EXPECT_DOUBLE_EQ(built.seconds_per_simulator(), (built.seconds - models) / 3.0);
 }
 
 }  // namespace
