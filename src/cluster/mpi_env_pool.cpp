@@ -105,7 +105,6 @@ MpiEnvPool::MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n
   placed_in_band_.assign(n_envs, 0);
   order_.resize(n_envs);
   std::iota(order_.begin(), order_.end(), std::size_t{0});
-  design_of_.assign(n_envs, -1);
   design_cost_.assign(fem::kDesignCount, std::numeric_limits<double>::quiet_NaN());
   build_.held.assign(slices_.size(), std::vector<int>(fem::kDesignCount, 0));
 }
@@ -142,12 +141,13 @@ double MpiEnvPool::imbalance(const std::vector<double>& work) const {
 }
 
 // What each design cost in the iteration that just ended (settle and step CPU seconds of its
-// environment; the mean where several environments had it).
+// environment; the mean where several environments had it). build_.design still holds that
+// iteration's designs: assign() calls this before it sets the next ones.
 void MpiEnvPool::learn_costs() {
   const std::vector<double> work = work_since_start();
   std::vector<double> sum(design_cost_.size(), 0.0), count(design_cost_.size(), 0.0);
   for (std::size_t i = 0; i < n_envs_; ++i) {
-    const int d = design_of_[i];
+    const int d = build_.design[i];
     if (d < 0 || d >= static_cast<int>(design_cost_.size())) continue;
     sum[static_cast<std::size_t>(d)] += work[i];
     count[static_cast<std::size_t>(d)] += 1.0;
@@ -176,7 +176,6 @@ std::vector<core::EpisodeSetup> MpiEnvPool::assign(const std::vector<core::Episo
   if (!std::is_sorted(order_.begin(), order_.end())) ++reassigned_;  // a sorted permutation is the identity
   std::vector<core::EpisodeSetup> placed(n_envs_);
   for (std::size_t j = 0; j < n_envs_; ++j) placed[j] = setups[order_[j]];
-  for (std::size_t i = 0; i < n_envs_; ++i) design_of_[i] = setups[i].design;
   return placed;
 }
 

@@ -102,9 +102,8 @@ class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
   // Place j of the slices steps environment order_[j] (identity until the first start()).
   std::vector<std::size_t> order_;
   std::vector<std::size_t> pinned_;      // environments with a step observer (on rank 0, own place)
-  std::vector<int> design_of_;           // per environment, the design of the last start (-1: none)
   std::vector<double> design_cost_;      // per design, CPU seconds in its last iteration (NaN: unknown)
-  BuildCosts build_;                     // what each rank holds (record_held) and builds, for the split
+  BuildCosts build_;                     // the last start's designs, what each rank holds (record_held) and builds
   rl::VecStepResult placed_;             // a step's results in place order, before they are put back
   std::vector<int> placed_in_band_;
   Eigen::MatrixXd placed_actions_;

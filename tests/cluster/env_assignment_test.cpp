@@ -75,10 +75,6 @@ TEST(EnvSlice, RankCountsThatLeaveARankEmptyAreRefused) {
   EXPECT_THROW(env_slices(4, 0), std::invalid_argument);
 }
 
-// Worked by hand: six environments on two ranks of three places, environment 0 pinned (cost 1).
-// Costliest first: 1 (9) to rank 1 (load 0 < 1); 2 (8) to rank 0 (1 < 9); 4 (7) to rank 0 (9 = 9,
-// the lower rank; now full); 5 (3) and 3 (2) to rank 1. Loads 16 and 14, where the contiguous
-// slices {0, 1, 2} and {3, 4, 5} would carry 18 and 12.
 // 1 to 48 environments on 1 to 9 ranks (never more ranks than environments), costs in [0.05, 1).
 struct RandomCase {
   std::size_t n;
@@ -97,6 +93,10 @@ RandomCase random_case(std::mt19937_64& rng) {
   return c;
 }
 
+// Worked by hand: six environments on two ranks of three places, environment 0 pinned (cost 1).
+// Costliest first: 1 (9) to rank 1 (load 0 < 1); 2 (8) to rank 0 (1 < 9); 4 (7) to rank 0 (9 = 9,
+// the lower rank; now full); 5 (3) and 3 (2) to rank 1. Loads 16 and 14, where the contiguous
+// slices {0, 1, 2} and {3, 4, 5} would carry 18 and 12.
 TEST(AssignByCost, HandWorkedSplitOfSixOverTwoRanks) {
   const std::vector<double> cost = {1, 9, 8, 2, 7, 3};
   const auto slices = env_slices(6, 2);
