@@ -23,8 +23,7 @@ fi
 BIN=$(readlink -f "$1"); CFG=$2; OUT=$3; N=$4; WARMUP=${5:-40}
 AFTER=${SAMPLE_AFTER:-150}; FOR=${SAMPLE_FOR:-20}
 mkdir -p "$OUT"
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-MPI="mpirun -np 2 --bind-to none --oversubscribe --mca btl self,vader --mca btl_vader_single_copy_mechanism none --mca oob_tcp_if_include lo"
+. "$(dirname "$(readlink -f "$0")")/cluster_common.sh"  # $MPI: two ranks on this machine
 BENCH="bench cluster --config $CFG --threads 2 --warmup $WARMUP --iterations 5"
 RANK_BENCH="bench cluster --config $CFG --threads ${RANK_THREADS:-2} --warmup $WARMUP --iterations 5"
 

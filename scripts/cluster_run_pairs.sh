@@ -35,8 +35,7 @@ sed -E "s/^total_timesteps = [0-9]+/total_timesteps = $D/;
 for key in total_timesteps exploration_end exploitation_start ent_decay_start ent_decay_end; do
   grep -E "^$key = " "$CFG" > /dev/null || { echo "cluster_run_pairs.sh: $key not set in $CFG" >&2; exit 2; }
 done
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-MPI="mpirun -np 2 --bind-to none --oversubscribe --mca btl self,vader --mca btl_vader_single_copy_mechanism none --mca oob_tcp_if_include lo"
+. "$(dirname "$(readlink -f "$0")")/cluster_common.sh"  # $MPI: two ranks on this machine
 
 # $1: run folder, $2: wall seconds. ppo.csv's columns are looked up by name in its header.
 report() {

@@ -28,8 +28,7 @@ cd "$(dirname "$0")/.."
 awk '/^\[/ { skip = ($0 ~ /^\[render\]/) } !skip' "$RUN/config.toml" > "$OUT/config.toml"
 printf '\n[render]\nenabled = false\n' >> "$OUT/config.toml"
 if [ -n "$WAKER" ]; then cc -O2 -o "$OUT/idle_waker" scripts/idle_waker.c; fi
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-MPI="mpirun -np 2 --bind-to none --oversubscribe --mca btl self,vader --mca btl_vader_single_copy_mechanism none --mca oob_tcp_if_include lo"
+. "$(dirname "$(readlink -f "$0")")/cluster_common.sh"  # $MPI: two ranks on this machine
 mtime() { stat -c %.3Y "$1"; }
 # $1: round, $2: kind; the rest: the launch. Resumes a fresh copy of RUN into OUT/ROUND.KIND.
 launch() {

@@ -7,6 +7,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
 mpicc -O2 -o "$work/finalize_wakes" scripts/finalize_wakes.c -lm
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-MPI="mpirun -np 2 --bind-to none --oversubscribe --mca btl self,vader --mca btl_vader_single_copy_mechanism none --mca oob_tcp_if_include lo"
+. "$(dirname "$(readlink -f "$0")")/cluster_common.sh"  # $MPI: two ranks on this machine
 for b in 0 1; do BARRIER=$b $MPI -x BARRIER "$work/finalize_wakes" "${1:-5}" | sort; done

@@ -15,7 +15,12 @@
 // model (cluster/scaling_model.hpp) with these costs: seconds per iteration and the projected run
 // time for 1 … ψ ranks of --model-threads threads, with the update on rank 0 (as built) and
 // spread over the ranks (a bound: not built, messages free), beside the measured figure of this
-// launch, and the issue's goal (the paper run in ≤ 5 min on 16 ranks). Without MPI the exchange
+// launch, and the issue's goal (the paper run in ≤ 5 min on 16 ranks); then the spread update
+// with its gradients' messages, per minibatch with a gradient (counted over the timed iterations)
+// 2 (N − 1)/N times one gradient's transfer: as measured between this launch's ranks (under
+// mpirun), and over links of 10, 25 and 100 Gb/s (the gradient's bytes over the link's rate); its
+// compute is the busiest rank's share of each minibatch, timed on synthetic data against the whole
+// minibatch (a narrow share runs the products below their full speed). Without MPI the exchange
 // cost is not measured and the model's message term is 0 (said so). A launch with more threads
 // than cores on rank 0's machine (ranks there × --threads) is measured as any other, and the
 // bench says that its c is a share of a core, which the model cannot use.
@@ -47,6 +52,37 @@
 namespace codesign::app {
 
 namespace {
+
+// Median seconds of one minibatch's loss and gradient on `width` samples of synthetic data (the
+// cost does not depend on the values), on one thread, with a copy of the run's feed-forward model:
+// its sizes and matrix-product precision. After one untimed pass.
+double minibatch_gradient_seconds(const rl::ActorCritic& model, Eigen::Index width, int reps) {
+  rl::ActorCritic m = model;
+  rl::Rng rng(20261206);
+  rl::PpoMinibatchT<float> mb;
+  auto normals = [&](Eigen::Index rows) {
+    Eigen::MatrixXf x(rows, width);
+    for (Eigen::Index i = 0; i < x.size(); ++i) x(i) = static_cast<float>(rng.normal());
+    return x;
+  };
+  mb.obs = normals(m.critic_input_dim());
+  mb.actions = normals(m.act_dim());
+  mb.old_log_prob = normals(1);
+  mb.advantages = normals(1);
+  mb.returns = normals(1);
+  rl::PpoWorkspaceT<float> ws;
+  rl::ActorCriticGrad grad = m.zero_grad();
+  const rl::PpoLossCoefficients coefs{0.2, 0.01, 0.5, true};
+  rl::ppo_minibatch_loss<float>(m, mb, coefs, &grad, ws);
+  std::vector<double> t;
+  for (int r = 0; r < reps; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    rl::ppo_minibatch_loss<float>(m, mb, coefs, &grad, ws);
+    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
 
 // The machine's CPU time so far from the first line of /proc/stat, in core-seconds: busy (user,
 // nice, system, irq, softirq), idle (idle, iowait) and stolen by the hypervisor. All zero where
@@ -259,6 +295,13 @@ int run_bench_cluster(const BenchClusterOptions& o) {
                          : cluster::time_exchanges(ranks, slice * act, slice * (5 + 2 * obs), o.exchanges);
   }
 
+  // A data-parallel update's messages (scaling_model.hpp): one gradient (the parameters' size)
+  // moved one way between rank 0 and a rank, answered by a short reply.
+  const auto gradient_floats = static_cast<std::size_t>(
+      loop.recurrent_model() ? loop.recurrent_model()->num_params() : loop.model().num_params());
+  const double gradient_transfer =
+      ranks > 1 ? cluster::time_exchanges(ranks, (gradient_floats + 1) / 2, 1, std::min(o.exchanges, 50)) : 0.0;
+
   const double settle0 = pool->settle_seconds(), step0 = pool->step_seconds(), build0 = pool->build_seconds();
 
   const int starts0 = mpi_pool ? mpi_pool->starts() : 0, moved0 = mpi_pool ? mpi_pool->reassigned_starts() : 0;
@@ -267,6 +310,7 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   const double rollout_wait0 = mpi_pool ? mpi_pool->rollout_wait_seconds() : 0.0;
   const int rollouts0 = mpi_pool ? mpi_pool->rollouts() : 0;
   double collect = 0.0, update = 0.0, dist = 0.0, policy = 0.0, imbalance = 0.0, imbalance_s = 0.0;
+  double minibatches = 0.0;  // with a gradient: those applied, and the one that stopped the update early
   std::size_t restarts = 0;  // episodes that ended before the rollout's last step and so restarted
   const MachineTimes m0 = machine_times();
   const auto t0 = std::chrono::steady_clock::now();
@@ -276,6 +320,7 @@ int run_bench_cluster(const BenchClusterOptions& o) {
     update += r.update_s;
     dist += r.distribution_s;
     policy += r.policy_s;
+    minibatches += r.ppo.minibatches_applied + (r.ppo.early_stopped ? 1 : 0);
     std::vector<int> taken(static_cast<std::size_t>(psi), 0);  // decisions of each environment so far
     for (const core::EpisodeRecord& e : r.episodes) {
       taken[static_cast<std::size_t>(e.env)] += e.decisions;
@@ -371,6 +416,56 @@ int run_bench_cluster(const BenchClusterOptions& o) {
     std::printf("  goal (issue 20 §3): the run in <= 5 min on 16 ranks by the model: %.1f min with the update on rank 0: "
                 "%s; %.1f min with it spread (not built): %s\n",
                 m16, m16 <= 5.0 ? "met" : "NOT met", s16, s16 <= 5.0 ? "would be met" : "NOT met either");
+  }
+  // The spread update with its gradients' messages at their least (scaling_model.hpp), y from
+  // this launch's ranks (shared memory on one machine) and from links of given speeds.
+  {
+    spread.update_minibatches = minibatches / n;
+    const double bytes = 4.0 * static_cast<double>(gradient_floats);
+    std::printf("bench cluster: the update spread with its messages: %.1f minibatches with a gradient per iteration, a "
+                "gradient of %zu floats (%.1f MB), 2 (N-1)/N gradients in and out of every rank per minibatch\n",
+                spread.update_minibatches, gradient_floats, bytes / 1e6);
+    // e(N): the busiest rank's share of a minibatch, ceil(B/N) samples, against the whole (one thread,
+    // feed-forward policies; the recurrent update's shares are whole sequences, not measured).
+    const int batch = lc.ppo.batch_size;
+    std::map<int, double> share_cost;
+    if (!loop.recurrent_model()) {
+      const double whole = minibatch_gradient_seconds(loop.model(), batch, 15);
+      std::printf("  one minibatch's loss and gradient on one thread, %d samples: %.2f ms; the busiest rank's share "
+                  "on N ranks, times N, over it (the model's e):",
+                  batch, 1e3 * whole);
+      for (int r : {2, 4, 8, 16, 32, 64}) {
+        if (r > psi || r > batch) break;
+        const int share = (batch + r - 1) / r;
+        share_cost[r] = minibatch_gradient_seconds(loop.model(), share, 15) * r / whole;
+        std::printf(" N = %d (%d samples) %.2f;", r, share, share_cost[r]);
+      }
+      std::printf("\n");
+    } else {
+      std::printf("  the recurrent update's shares are not measured: e = 1 (u / N, optimistic)\n");
+    }
+    std::vector<std::pair<std::string, double>> links;
+    if (ranks > 1) links.emplace_back("this launch's ranks", gradient_transfer);
+    for (double gbps : {10.0, 25.0, 100.0})
+      links.emplace_back(std::to_string(static_cast<int>(gbps)) + " Gb/s link", bytes * 8.0 / (gbps * 1e9));
+    std::printf("  ranks | update on rank 0 | spread (e u/N), messages free");
+    for (const auto& [name, y] : links) std::printf(" | spread, %s (y = %.2f ms)", name.c_str(), 1e3 * y);
+    std::printf("   (run, min)\n");
+    for (int r : {1, 2, 4, 8, 16, 32, 64}) {
+      if (r > psi) break;
+      cluster::ScalingCosts free_messages = spread;
+      free_messages.gradient_transfer_s = 0.0;
+      free_messages.update_share_cost = share_cost.count(r) ? share_cost[r] : 1.0;
+      std::printf("  %5d | %16.1f | %29.1f", r, iterations_total * cluster::iteration_seconds(c, r) / 60.0,
+                  iterations_total * cluster::iteration_seconds(free_messages, r) / 60.0);
+      for (const auto& [name, y] : links) {
+        cluster::ScalingCosts with = free_messages;
+        with.gradient_transfer_s = y;
+        std::printf(" | %*.1f", static_cast<int>(name.size()) + 21,
+                    iterations_total * cluster::iteration_seconds(with, r) / 60.0);
+      }
+      std::printf("\n");
+    }
   }
   // The designs' cost spread: how much more the busiest rank carries than the model's rounds · c.
   std::map<int, int> designs;

@@ -17,9 +17,17 @@
 // differ in cost (cost_spread.hpp estimates it from measured costs for a given N).
 // Amdahl's law with a message term: the serial part bounds the speed-up at (⌈ψ/t⌉·c + u + p + d) /
 // (c + u + p + d) however many ranks there are.
-// With update_spread the update's u becomes u / N: a data-parallel update (each rank computes the
-// gradient of its share of a minibatch) with free messages. Not built; a bound on what it could
-// give, for deciding where the update should run.
+// With update_spread the update's u becomes u / N + g · 2 (N − 1)/N · y: a data-parallel update
+// (each rank computes the gradient of its share of each minibatch; not built), g the minibatches
+// whose gradient an iteration's update computes, y the time to move one gradient (the parameters'
+// size) from one rank to another. 2 (N − 1)/N gradients is the least any rank must send and receive
+// to combine N ranks' gradients and share the sum (a reduce-scatter, then an all-gather; the sum's
+// order can stay fixed, as one process's, by summing each segment on its owner in a fixed order).
+// With y = 0 the messages are free: a bound. u / N alone would be optimistic: a rank's share of a
+// 256-sample minibatch on 16 ranks is 16 samples, too narrow for the products' full speed; e
+// (update_share_cost, 1 by default) is the measured time of the busiest rank's share of a
+// minibatch's gradient times N over the whole minibatch's, set for the N at hand, and the
+// compute becomes e · u / N.
 #include <cstddef>
 
 namespace codesign::cluster {
@@ -33,7 +41,10 @@ struct ScalingCosts {
   double update_s = 0.0;             // u
   double policy_s = 0.0;             // p
   double distribution_s = 0.0;       // d
-  bool update_spread = false;        // u / N instead of u (see above)
+  bool update_spread = false;        // u / N + messages instead of u (see above)
+  double update_minibatches = 0.0;   // g: minibatches with a gradient per iteration (update_spread)
+  double gradient_transfer_s = 0.0;  // y: one gradient from one rank to another (update_spread)
+  double update_share_cost = 1.0;    // e: a share's compute, N shares over the whole (update_spread)
   double collect_factor = 1.0;       // F (see above)
 };
 

@@ -57,6 +57,31 @@ TEST(ScalingModel, ASpreadUpdateDividesOnlyTheUpdateByTheRanks) {
   EXPECT_NEAR(iteration_seconds(c, 16), 2 * 0.25 + 15 * 51 * 1e-5 + 0.3 / 16 + 0.05 + 0.001, 1e-12);
 }
 
+TEST(ScalingModel, ASpreadUpdatePaysItsGradientsLeastMessagesPerMinibatch) {
+  ScalingCosts c = paper_like();
+  c.update_spread = true;
+  c.update_minibatches = 20;       // e.g. 2.5 epochs of 8 minibatches
+  c.gradient_transfer_s = 1.5e-3;  // one gradient between two ranks
+  // 1 rank: no messages (2 · 0/1).
+  EXPECT_NEAR(iteration_seconds(c, 1), 20 * 0.25 + 0.3 + 0.05 + 0.001, 1e-12);
+  // 2 ranks: 20 rounds → 10; each minibatch moves 2 · 1/2 gradient: 20 · 1.5 ms = 30 ms.
+  EXPECT_NEAR(iteration_seconds(c, 2), 10 * 0.25 + 51 * 1e-5 + 0.3 / 2 + 20 * 1.5e-3 + 0.05 + 0.001, 1e-12);
+  // 16 ranks: 2 · 15/16 gradients per minibatch: 20 · 1.875 · 1.5 ms = 56.25 ms.
+  EXPECT_NEAR(iteration_seconds(c, 16), 2 * 0.25 + 15 * 51 * 1e-5 + 0.3 / 16 + 0.05625 + 0.05 + 0.001, 1e-12);
+  // The messages belong to the spread update only: on rank 0 the update is u whatever g and y.
+  c.update_spread = false;
+  EXPECT_NEAR(iteration_seconds(c, 16), 2 * 0.25 + 15 * 51 * 1e-5 + 0.3 + 0.05 + 0.001, 1e-12);
+  // A share that computes 1.6 times slower per sample than the whole minibatch: e · u / N.
+  c.update_spread = true;
+  c.update_share_cost = 1.6;
+  EXPECT_NEAR(iteration_seconds(c, 16), 2 * 0.25 + 15 * 51 * 1e-5 + 1.6 * 0.3 / 16 + 0.05625 + 0.05 + 0.001, 1e-12);
+  c.gradient_transfer_s = -1e-3;
+  EXPECT_THROW(iteration_seconds(c, 2), std::invalid_argument);
+  c.gradient_transfer_s = 1e-3;
+  c.update_share_cost = -1.0;
+  EXPECT_THROW(iteration_seconds(c, 2), std::invalid_argument);
+}
+
 TEST(ScalingModel, TheBusiestRanksFactorScalesOnlyTheCollectionRounds) {
   ScalingCosts c = paper_like();
   c.collect_factor = 1.5;
