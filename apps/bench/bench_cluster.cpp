@@ -46,6 +46,7 @@
 #include "cluster/scaling_model.hpp"
 #include "codesign/outer_loop.hpp"
 #include "commands.hpp"
+#include "minibatch_timing.hpp"
 #include "run/rollout_backend.hpp"
 #include "run/run_config.hpp"
 
@@ -54,34 +55,22 @@ namespace codesign::app {
 namespace {
 
 // Median seconds of one minibatch's loss and gradient on `width` samples of synthetic data (the
-// cost does not depend on the values), on one thread, with a copy of the run's feed-forward model:
-// its sizes and matrix-product precision. After one untimed pass.
+// cost does not depend on the values), on one thread, with the run's feed-forward model: its sizes
+// and matrix-product precision. After one untimed pass.
 double minibatch_gradient_seconds(const rl::ActorCritic& model, Eigen::Index width, int reps) {
-  rl::ActorCritic m = model;
   rl::Rng rng(20261206);
-  rl::PpoMinibatchT<float> mb;
   auto normals = [&](Eigen::Index rows) {
     Eigen::MatrixXf x(rows, width);
     for (Eigen::Index i = 0; i < x.size(); ++i) x(i) = static_cast<float>(rng.normal());
     return x;
   };
-  mb.obs = normals(m.critic_input_dim());
-  mb.actions = normals(m.act_dim());
+  rl::PpoMinibatchT<float> mb;
+  mb.obs = normals(model.critic_input_dim());
+  mb.actions = normals(model.act_dim());
   mb.old_log_prob = normals(1);
   mb.advantages = normals(1);
   mb.returns = normals(1);
-  rl::PpoWorkspaceT<float> ws;
-  rl::ActorCriticGrad grad = m.zero_grad();
-  const rl::PpoLossCoefficients coefs{0.2, 0.01, 0.5, true};
-  rl::ppo_minibatch_loss<float>(m, mb, coefs, &grad, ws);
-  std::vector<double> t;
-  for (int r = 0; r < reps; ++r) {
-    const auto t0 = std::chrono::steady_clock::now();
-    rl::ppo_minibatch_loss<float>(m, mb, coefs, &grad, ws);
-    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
+  return minibatch_loss_seconds<float>(model, mb, {0.2, 0.01, 0.5, true}, 1, reps);
 }
 
 // The machine's CPU time so far from the first line of /proc/stat, in core-seconds: busy (user,
@@ -420,11 +409,12 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   // The spread update with its gradients' messages at their least (scaling_model.hpp), y from
   // this launch's ranks (shared memory on one machine) and from links of given speeds.
   {
-    spread.update_minibatches = minibatches / n;
+    cluster::ScalingCosts priced = spread;  // e and y are set per row below
+    priced.update_minibatches = minibatches / n;
     const double bytes = 4.0 * static_cast<double>(gradient_floats);
     std::printf("bench cluster: the update spread with its messages: %.1f minibatches with a gradient per iteration, a "
                 "gradient of %zu floats (%.1f MB), 2 (N-1)/N gradients in and out of every rank per minibatch\n",
-                spread.update_minibatches, gradient_floats, bytes / 1e6);
+                priced.update_minibatches, gradient_floats, bytes / 1e6);
     // e(N): the busiest rank's share of a minibatch, ceil(B/N) samples, against the whole (one thread,
     // feed-forward policies; the recurrent update's shares are whole sequences, not measured).
     const int batch = lc.ppo.batch_size;
@@ -453,8 +443,7 @@ int run_bench_cluster(const BenchClusterOptions& o) {
     std::printf("   (run, min)\n");
     for (int r : {1, 2, 4, 8, 16, 32, 64}) {
       if (r > psi) break;
-      cluster::ScalingCosts free_messages = spread;
-      free_messages.gradient_transfer_s = 0.0;
+      cluster::ScalingCosts free_messages = priced;  // y = 0
       free_messages.update_share_cost = share_cost.count(r) ? share_cost[r] : 1.0;
       std::printf("  %5d | %16.1f | %29.1f", r, iterations_total * cluster::iteration_seconds(c, r) / 60.0,
                   iterations_total * cluster::iteration_seconds(free_messages, r) / 60.0);

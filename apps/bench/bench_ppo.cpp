@@ -30,6 +30,7 @@
 #include "base/thread_cpu_seconds.hpp"
 #include "commands.hpp"
 #include "io/gym_config.hpp"
+#include "minibatch_timing.hpp"
 #include "rl/gemm.hpp"
 #include "rl/ppo.hpp"
 #include "rl/recurrent_ppo.hpp"
@@ -39,10 +40,6 @@ namespace codesign::app {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 // Measured single-core fp32 FMA peak: 16 independent chains of fused multiply-adds on the
 // widest vectors of the build (16 lanes with AVX-512, 8 with AVX, else 4; enough chains to cover
@@ -104,12 +101,6 @@ __attribute__((noinline)) double peak_bf16_gflops() {
 #else
   return 0.0;
 #endif
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 struct BenchOptions {
@@ -230,15 +221,7 @@ double minibatch_pass_seconds(int hidden, int batch, int reps) {
   mb.old_log_prob = a.log_probs;
   mb.advantages = a.values;
   mb.returns = a.values.array() + S(1);
-  rl::PpoWorkspaceT<S> ws;
-  auto grad = model.zero_grad();
-  std::vector<double> times;
-  for (int r = 0; r < reps; ++r) {
-    const auto t0 = Clock::now();
-    rl::ppo_minibatch_loss<S>(model, mb, {0.2, 0.01, 0.6, true}, &grad, ws);
-    times.push_back(seconds_since(t0));
-  }
-  return median(times);
+  return minibatch_loss_seconds<S>(model, mb, {0.2, 0.01, 0.6, true}, 0, reps);
 }
 
 // Median times of `reps` iterations (after one warm-up) of a fresh model with the given

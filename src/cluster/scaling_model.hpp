@@ -17,7 +17,7 @@
 // differ in cost (cost_spread.hpp estimates it from measured costs for a given N).
 // Amdahl's law with a message term: the serial part bounds the speed-up at (⌈ψ/t⌉·c + u + p + d) /
 // (c + u + p + d) however many ranks there are.
-// With update_spread the update's u becomes u / N + g · 2 (N − 1)/N · y: a data-parallel update
+// With update_spread the update's u becomes e · u / N + g · 2 (N − 1)/N · y: a data-parallel update
 // (each rank computes the gradient of its share of each minibatch; not built), g the minibatches
 // whose gradient an iteration's update computes, y the time to move one gradient (the parameters'
 // size) from one rank to another. 2 (N − 1)/N gradients is the least any rank must send and receive
@@ -26,8 +26,7 @@
 // With y = 0 the messages are free: a bound. u / N alone would be optimistic: a rank's share of a
 // 256-sample minibatch on 16 ranks is 16 samples, too narrow for the products' full speed; e
 // (update_share_cost, 1 by default) is the measured time of the busiest rank's share of a
-// minibatch's gradient times N over the whole minibatch's, set for the N at hand, and the
-// compute becomes e · u / N.
+// minibatch's gradient times N over the whole minibatch's, set for the N at hand.
 #include <cstddef>
 
 namespace codesign::cluster {
