@@ -37,7 +37,37 @@ std::shared_ptr<const fem::Model> SimulatorPool::model(int design) {
   built_.seconds += spent;
   built_.model_seconds += spent;
   ++built_.models;
+  meshed_.push_back(design);
   return m;
+}
+
+bool SimulatorPool::adopt_mesh(int design, fem::TetMesh mesh) {
+  if (design < 0 || design >= fem::kDesignCount)
+    throw std::out_of_range("SimulatorPool: design index " + std::to_string(design) + " outside 0..109");
+  std::lock_guard<std::mutex> build(*build_mutex_[design]);
+  if (has_model(design)) return false;
+  const double t0 = thread_cpu_seconds();
+  std::shared_ptr<const fem::Model> m = fem::whisker_model_from_mesh(design, std::move(mesh), spec_);
+  const double spent = thread_cpu_seconds() - t0;
+  std::lock_guard<std::mutex> lock(mutex_);
+  models_[design] = m;
+  built_.seconds += spent;
+  built_.adopt_seconds += spent;
+  ++built_.adopted;
+  return true;
+}
+
+bool SimulatorPool::has_model(int design) const {
+  if (design < 0 || design >= fem::kDesignCount) return false;
+  std::lock_guard<std::mutex> lock(mutex_);
+  return models_[design] != nullptr;
+}
+
+std::vector<int> SimulatorPool::take_meshed() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<int> out;
+  out.swap(meshed_);
+  return out;
 }
 
 std::unique_ptr<fem::Simulator> SimulatorPool::acquire(int design) {
@@ -67,7 +97,7 @@ void SimulatorPool::release(int design, std::unique_ptr<fem::Simulator> sim) {
 }
 
 double SimulatorPool::BuildStats::seconds_per_simulator() const {
-  return simulators > 0 ? std::max(0.0, seconds - model_seconds) / simulators : 0.0;
+  return simulators > 0 ? std::max(0.0, seconds - model_seconds - adopt_seconds) / simulators : 0.0;
 }
 
 SimulatorPool::BuildStats SimulatorPool::build_stats() const {

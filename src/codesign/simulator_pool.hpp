@@ -22,8 +22,18 @@ class SimulatorPool {
  public:
   SimulatorPool(fem::WhiskerModelSpec spec, fem::SceneConfig scene, fem::SolverConfig solver);
 
-  // The design's model (meshed on first use). Throws what build_whisker_model throws.
+  // The design's model (meshed on first use, unless a mesh was adopted). Throws what
+  // build_whisker_model throws.
   std::shared_ptr<const fem::Model> model(int design);
+  // Builds the design's model from a mesh made elsewhere (another process's pool, meshing with the
+  // same spec: fem::whisker_model_from_mesh gives the model meshing here would, bit for bit), so
+  // that model() need not mesh it: nearly all of a model's cost is meshing. Nothing happens if the
+  // pool has the model already; returns whether it built it. Throws std::out_of_range for a bad
+  // index and what whisker_model_from_mesh throws.
+  bool adopt_mesh(int design, fem::TetMesh mesh);
+  bool has_model(int design) const;
+  // The designs this pool has meshed itself (not adopted) since the last call, in that order.
+  std::vector<int> take_meshed();
   // A simulator of the design, in an arbitrary earlier state: call reset() before use.
   std::unique_ptr<fem::Simulator> acquire(int design);
   // Gives a simulator of `design` back for reuse (nullptr is ignored).
@@ -37,10 +47,12 @@ class SimulatorPool {
   // of the rollouts outside their settles and FEM steps (the benches' accounting), and what a rank
   // must spend before it can step a design new to it (cluster::BuildCosts).
   struct BuildStats {
-    int simulators = 0, models = 0;
+    int simulators = 0, models = 0, adopted = 0;  // models: meshed here; adopted: from a given mesh
     double seconds = 0.0;        // all builds
-    double model_seconds = 0.0;  // of which the models; the rest went into the simulators
+    double model_seconds = 0.0;  // of which the meshed models
+    double adopt_seconds = 0.0;  // and the adopted ones; the rest went into the simulators
     double seconds_per_model() const { return models > 0 ? model_seconds / models : 0.0; }
+    double seconds_per_adopted() const { return adopted > 0 ? adopt_seconds / adopted : 0.0; }
     double seconds_per_simulator() const;
   };
   BuildStats build_stats() const;
@@ -56,6 +68,7 @@ class SimulatorPool {
   std::vector<std::vector<std::unique_ptr<fem::Simulator>>> free_;     // per design
   std::vector<std::unique_ptr<std::mutex>> build_mutex_;               // per design
   BuildStats built_;
+  std::vector<int> meshed_;  // meshed here since the last take_meshed()
 };
 
 }  // namespace codesign::core

@@ -4,10 +4,22 @@
 
 namespace codesign::fem {
 
-std::shared_ptr<const Model> build_whisker_model(int design_index, const WhiskerModelSpec& spec) {
+namespace {
+
+WhiskerGeometry geometry_of(int design_index, const WhiskerModelSpec& spec) {
   WhiskerGeometry g = spec.geometry;
   g.design = design_from_index(design_index);
-  TetMesh mesh = mesh_whisker(g, spec.mesh);
+  return g;
+}
+
+}  // namespace
+
+std::shared_ptr<const Model> build_whisker_model(int design_index, const WhiskerModelSpec& spec) {
+  return whisker_model_from_mesh(design_index, mesh_whisker(geometry_of(design_index, spec), spec.mesh), spec);
+}
+
+std::shared_ptr<const Model> whisker_model_from_mesh(int design_index, TetMesh mesh, const WhiskerModelSpec& spec) {
+  const WhiskerGeometry g = geometry_of(design_index, spec);
   ModelOptions mo = spec.model;
   mo.fibre_polylines.clear();
   mo.fibre_chains.clear();
