@@ -298,6 +298,7 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   const double step_wait0 = mpi_pool ? mpi_pool->step_wait_seconds() : 0.0;
   const double rollout_wait0 = mpi_pool ? mpi_pool->rollout_wait_seconds() : 0.0;
   const int rollouts0 = mpi_pool ? mpi_pool->rollouts() : 0;
+  const int received0 = mpi_pool ? mpi_pool->meshes_received() : 0, sent0 = mpi_pool ? mpi_pool->meshes_sent() : 0;
   double collect = 0.0, update = 0.0, dist = 0.0, policy = 0.0, imbalance = 0.0, imbalance_s = 0.0;
   double minibatches = 0.0;  // with a gradient: those applied, and the one that stopped the update early
   std::size_t restarts = 0;  // episodes that ended before the rollout's last step and so restarted
@@ -341,6 +342,12 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   std::printf("  simulators built during the timed iterations on rank 0: %d (after %d warm-up iteration(s)); CPU "
               "in building simulators and meshing designs, every rank: %.3f s per iteration\n",
               sims->constructed() - built0, o.warmup, (pool->build_seconds() - build0) / n);
+  if (mpi_pool)
+    std::printf("  designs' meshes during the timed iterations: %d made on the other ranks and sent to rank 0, %d sent "
+                "to a rank that had not built the design (built there from the mesh: %.4f s CPU each on rank 0, "
+                "against %.4f s to mesh one)\n",
+                mpi_pool->meshes_received() - received0, mpi_pool->meshes_sent() - sent0,
+                sims->build_stats().seconds_per_adopted(), sims->build_stats().seconds_per_model());
   std::printf("  of it in settles (each start's and each restart's): %.4f s CPU; episodes restarted within a rollout: "
               "%.1f per iteration\n",
               (pool->settle_seconds() - settle0) / o.iterations / psi, static_cast<double>(restarts) / n);

@@ -79,7 +79,8 @@ std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const s
     throw std::invalid_argument("assign_by_cost: build costs for " + std::to_string(build.design.size()) +
                                 " environments and " + std::to_string(build.held.size()) + " ranks, not " +
                                 std::to_string(n) + " and " + std::to_string(ranks));
-  if (!std::isfinite(build.model) || build.model < 0.0 || !std::isfinite(build.simulator) || build.simulator < 0.0)
+  if (!std::isfinite(build.model) || build.model < 0.0 || !std::isfinite(build.simulator) || build.simulator < 0.0 ||
+      !std::isfinite(build.model_from_mesh) || build.model_from_mesh < 0.0)
     throw std::invalid_argument("assign_by_cost: a build cost is negative or not finite");
   for (const std::vector<int>& row : build.held)
     for (int h : row)
@@ -103,7 +104,8 @@ std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const s
   const auto builds = [&](std::size_t r, std::size_t d, int k) {
     if (k <= 0) return 0.0;
     const int h = held(r, d);
-    return (h == 0 ? build.model : 0.0) + std::max(0, k - h) * build.simulator;
+    const bool mesh_known = d < build.meshed.size() && build.meshed[d];
+    return (h == 0 ? (mesh_known ? build.model_from_mesh : build.model) : 0.0) + std::max(0, k - h) * build.simulator;
   };
   const auto change = [&](std::size_t r, int d, int by) {
     if (d < 0) return 0.0;

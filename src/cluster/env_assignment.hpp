@@ -49,14 +49,18 @@ std::vector<std::size_t> assign_by_cost(const std::vector<double>& cost, const s
                                         const std::vector<std::size_t>& pinned);
 
 // What a rank must build before it can step an environment, on top of the environment's cost: the
-// design's model (meshing) the first time the rank gets that design, and one more simulator
-// whenever the rank steps more environments of a design at once than it ever has (each rank's
-// SimulatorPool keeps its simulators for reuse). Seconds of one rank's CPU, like the costs.
+// design's model the first time the rank gets that design — meshing it, or, where the design's
+// mesh is known (rank 0 holds it and sends it), only building the model from the mesh — and one
+// more simulator whenever the rank steps more environments of a design at once than it ever has
+// (each rank's SimulatorPool keeps its simulators for reuse). Seconds of one rank's CPU, like the
+// costs.
 struct BuildCosts {
-  double model = 0.0;      // one design's model, on a rank that has none of it
+  double model = 0.0;      // one design's model, on a rank that has none of it, meshing it
   double simulator = 0.0;  // one simulator, its model built
   std::vector<int> design;              // per environment, its design (negative: builds nothing)
   std::vector<std::vector<int>> held;   // per rank, per design index: simulators the rank holds
+  double model_from_mesh = 0.0;         // one design's model from its known mesh (instead of `model`)
+  std::vector<char> meshed{};           // per design index: its mesh is known (missing: not)
 };
 
 // assign_by_cost with each rank's builds counted: an environment (costliest first, as above) goes

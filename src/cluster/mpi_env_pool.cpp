@@ -9,6 +9,7 @@
 #include <string>
 
 #include "base/seconds_since.hpp"
+#include "cluster/mesh_messages.hpp"
 #include "cluster/mpi_wait.hpp"
 #include "cluster/rollout_messages.hpp"
 #include "fem/design.hpp"
@@ -21,9 +22,13 @@ namespace {
 // or kPayload; rank r -> rank 0: the reply (kReply) and, after a step, the end reasons (kReasons).
 // After kRollout rank r gets two payloads (its setups; gamma, the batch's width and its places),
 // then two broadcasts from rank 0 (the parameters, the normal draws); it answers with its record
-// (kTagReply: floats, then doubles; kTagReasons).
+// (kTagReply: floats, then doubles; kTagReasons). Around a start and a rollout the designs' meshes
+// travel (kTagMeshes, pack_meshes): after the setups (and the places) rank 0 sends each rank the
+// meshes of the designs it gets without holding them, as far as rank 0 has them; after its answer
+// each rank sends back the meshes it made itself meanwhile. Both messages always go (an empty one
+// holds a count of 0).
 enum Command : int { kStop = 0, kStart = 1, kStep = 2, kTimes = 3, kPing = 4, kCosts = 5, kRollout = 6 };
-constexpr int kTagCommand = 101, kTagPayload = 102, kTagReply = 103, kTagReasons = 104;
+constexpr int kTagCommand = 101, kTagPayload = 102, kTagReply = 103, kTagReasons = 104, kTagMeshes = 105;
 
 void send_doubles(const std::vector<double>& v, int to, int tag) {
   check(MPI_Send(v.data(), static_cast<int>(v.size()), MPI_DOUBLE, to, tag, MPI_COMM_WORLD), "send");
@@ -72,6 +77,43 @@ std::string recv_string(int from, int tag) {
   return s;
 }
 
+// A message of doubles whose length the receiver does not know (it follows another message of the
+// same sender at once, so the blocking probe waits no longer than an exchange).
+std::vector<double> recv_any_doubles(int from, int tag, const char* what) {
+  MPI_Status st;
+  check(MPI_Probe(from, tag, MPI_COMM_WORLD, &st), "probe");
+  int n = 0;
+  MPI_Get_count(&st, MPI_DOUBLE, &n);
+  std::vector<double> v(static_cast<std::size_t>(n));
+  check(MPI_Recv(v.data(), n, MPI_DOUBLE, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE), what);
+  return v;
+}
+
+// The meshes of `designs` from `sims` (each has its model there) as one message.
+std::vector<double> pack_held_meshes(core::SimulatorPool& sims, const std::vector<int>& designs) {
+  std::vector<std::shared_ptr<const fem::Model>> models;
+  std::vector<const fem::TetMesh*> meshes;
+  for (int d : designs) {
+    models.push_back(sims.model(d));
+    meshes.push_back(&models.back()->mesh);
+  }
+  return pack_meshes(designs, meshes);
+}
+
+// Builds the models of a meshes message in `sims`; returns how many it built (a design `sims`
+// already has is skipped).
+int adopt_meshes(core::SimulatorPool& sims, const std::vector<double>& message) {
+  int built = 0;
+  for (DesignMesh& m : unpack_meshes(message)) built += sims.adopt_mesh(m.design, std::move(m.mesh)) ? 1 : 0;
+  return built;
+}
+
+// A rank's part after its answer: the meshes it made since the last one.
+void send_own_meshes(core::ThreadEnvPool& local) {
+  core::SimulatorPool& sims = local.simulators();
+  send_doubles(pack_held_meshes(sims, sims.take_meshed()), 0, kTagMeshes);
+}
+
 std::vector<double> columns(const Eigen::MatrixXd& m, EnvSlice s) {
   std::vector<double> v(static_cast<std::size_t>(m.rows()) * s.count);
   Eigen::Map<Eigen::MatrixXd>(v.data(), m.rows(), static_cast<Eigen::Index>(s.count)) =
@@ -107,6 +149,7 @@ MpiEnvPool::MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n
   std::iota(order_.begin(), order_.end(), std::size_t{0});
   design_cost_.assign(fem::kDesignCount, std::numeric_limits<double>::quiet_NaN());
   build_.held.assign(slices_.size(), std::vector<int>(fem::kDesignCount, 0));
+  mesh_sends_.resize(slices_.size());
 }
 
 MpiEnvPool::~MpiEnvPool() {
@@ -167,10 +210,31 @@ std::vector<core::EpisodeSetup> MpiEnvPool::assign(const std::vector<core::Episo
   // What a rank builds for a design new to it: rank 0's own builds so far, per model and per
   // simulator (all ranks run the same code; before rank 0 has built anything, nothing). On nodes
   // of different speeds rank 0's seconds stand for every rank's: a prediction, never a result.
-  const core::SimulatorPool::BuildStats built = local_->simulators().build_stats();
+  // Designs whose mesh rank 0 holds (its own, or sent by a rank that made it) cost another rank
+  // only the model from the mesh (its seconds: rank 0's own such builds so far).
+  const core::SimulatorPool& sims = local_->simulators();
+  const core::SimulatorPool::BuildStats built = sims.build_stats();
   build_.model = built.seconds_per_model();
   build_.simulator = built.seconds_per_simulator();
+  build_.model_from_mesh = built.seconds_per_adopted();
+  build_.meshed.assign(fem::kDesignCount, 0);
+  for (int d = 0; d < fem::kDesignCount; ++d) build_.meshed[static_cast<std::size_t>(d)] = sims.has_model(d) ? 1 : 0;
   if (!predicted.empty() && share_by_cost_) order_ = assign_by_cost(predicted, slices_, pinned_, build_);
+  // Each rank's designs it holds no simulator of (so no model: a rank keeps what it built) and
+  // whose mesh rank 0 has: their meshes go with the setups.
+  for (int r = 1; r < ranks_; ++r) {
+    std::vector<int>& send = mesh_sends_[static_cast<std::size_t>(r)];
+    send.clear();
+    const std::vector<int>& held = build_.held[static_cast<std::size_t>(r)];
+    for (std::size_t j = slices_[static_cast<std::size_t>(r)].first;
+         j < slices_[static_cast<std::size_t>(r)].first + slices_[static_cast<std::size_t>(r)].count; ++j) {
+      const int d = build_.design[order_[j]];
+      if (d < 0 || d >= fem::kDesignCount || !build_.meshed[static_cast<std::size_t>(d)]) continue;
+      if (static_cast<std::size_t>(d) < held.size() && held[static_cast<std::size_t>(d)] > 0) continue;
+      if (std::find(send.begin(), send.end(), d) == send.end()) send.push_back(d);
+    }
+    meshes_sent_ += static_cast<int>(send.size());
+  }
   record_held(order_, slices_, build_);
   ++starts_;
   if (!std::is_sorted(order_.begin(), order_.end())) ++reassigned_;  // a sorted permutation is the identity
@@ -184,6 +248,7 @@ Eigen::MatrixXd MpiEnvPool::start(const std::vector<core::EpisodeSetup>& setups)
   for (int r = 1; r < ranks_; ++r) {
     send_command(r, kStart, 0);
     send_doubles(pack_setups(placed, slices_[r].first, slices_[r].count), r, kTagPayload);
+    send_meshes_to(r);
   }
   const std::vector<core::EpisodeSetup> mine(placed.begin(), placed.begin() + static_cast<std::ptrdiff_t>(slices_[0].count));
   const Eigen::Index d = static_cast<Eigen::Index>(spec().observation.dim());
@@ -198,6 +263,7 @@ Eigen::MatrixXd MpiEnvPool::start(const std::vector<core::EpisodeSetup>& setups)
     const Eigen::Map<const Eigen::MatrixXd> got(v.data(), d, static_cast<Eigen::Index>(s.count));
     for (std::size_t k = 0; k < s.count; ++k)
       obs.col(static_cast<Eigen::Index>(order_[s.first + k])) = got.col(static_cast<Eigen::Index>(k));
+    receive_meshes_from(r);
   }
   start_wait_s_ += seconds_since(waiting);
   return obs;
@@ -266,6 +332,7 @@ core::ShareRollout MpiEnvPool::rollout(const std::vector<core::EpisodeSetup>& se
     std::vector<double> where{gamma, static_cast<double>(n_envs_)};
     for (std::size_t p : places_of(slices_[r])) where.push_back(static_cast<double>(p));
     send_doubles(where, r, kTagPayload);
+    send_meshes_to(r);
   }
   if (ranks_ > 1) {
     std::vector<float> params = pack_policy(model);
@@ -288,9 +355,20 @@ core::ShareRollout MpiEnvPool::rollout(const std::vector<core::EpisodeSetup>& se
     p.doubles = recv_doubles(share_doubles(n_steps, w), r, kTagReply);
     p.reasons = recv_string(r, kTagReasons);
     core::place_share(unpack_share(p, n_steps, w, d, a), places_of(slices_[r]), all);
+    receive_meshes_from(r);
   }
   rollout_wait_s_ += seconds_since(waiting);
   return all;
+}
+
+void MpiEnvPool::send_meshes_to(int r) {
+  send_doubles(pack_held_meshes(local_->simulators(), mesh_sends_[static_cast<std::size_t>(r)]), r, kTagMeshes);
+}
+
+void MpiEnvPool::receive_meshes_from(int r) {
+  const std::vector<double> v = recv_any_doubles(r, kTagMeshes, "receive meshes");
+  meshes_received_ += static_cast<int>(unpack_meshes(v).size());
+  adopt_meshes(local_->simulators(), v);
 }
 
 // The settle, step and build CPU seconds of ranks 1.. (one query each).
@@ -348,8 +426,10 @@ void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model) {
         return;
       case kStart: {
         const std::vector<core::EpisodeSetup> setups = unpack_setups(recv_doubles(n * kSetupFields, 0, kTagPayload));
+        adopt_meshes(local.simulators(), recv_any_doubles(0, kTagMeshes, "receive meshes"));
         const Eigen::MatrixXd obs = local.start(setups);
         send_doubles(std::vector<double>(obs.data(), obs.data() + obs.size()), 0, kTagReply);
+        send_own_meshes(local);
         break;
       }
       case kStep: {
@@ -373,6 +453,7 @@ void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model) {
         const auto width = static_cast<std::size_t>(where[1]);
         std::vector<std::size_t> places;
         for (std::size_t j = 0; j < n; ++j) places.push_back(static_cast<std::size_t>(where[2 + j]));
+        adopt_meshes(local.simulators(), recv_any_doubles(0, kTagMeshes, "receive meshes"));
         if (!model) throw std::runtime_error("MPI rollout backend: a whole rollout asked of a rank without a feed-forward model");
         std::vector<float> params(policy_size(*model));
         check(MPI_Bcast(params.data(), static_cast<int>(params.size()), MPI_FLOAT, 0, MPI_COMM_WORLD), "receive the policy");
@@ -390,6 +471,7 @@ void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model) {
         send_doubles(p.doubles, 0, kTagReply);
         check(MPI_Send(p.reasons.data(), static_cast<int>(p.reasons.size()), MPI_CHAR, 0, kTagReasons, MPI_COMM_WORLD),
               "send the end reasons");
+        send_own_meshes(local);
         break;
       }
       case kTimes:

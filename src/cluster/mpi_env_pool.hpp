@@ -85,10 +85,16 @@ class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
   // done, in start() and in step(): its idle time at the decisions' meeting points (for the bench).
   double start_wait_seconds() const { return start_wait_s_; }
   double step_wait_seconds() const { return step_wait_s_; }
+  // Designs' meshes sent so far to ranks that got a design they had not built (so they built its
+  // model from the mesh instead of meshing it), and meshes the ranks sent rank 0 (the ones they made).
+  int meshes_sent() const { return meshes_sent_; }
+  int meshes_received() const { return meshes_received_; }
 
  private:
   std::array<double, 3> remote_seconds() const;  // settle, step, build: ranks 1..
   void learn_costs();  // from the iteration just ended, into design_cost_
+  void send_meshes_to(int r);       // mesh_sends_[r], after r's setups
+  void receive_meshes_from(int r);  // after r's answer: the meshes r made, built here too
   // The assignment of a start (learn_costs, assign_by_cost into order_): the setups in place order.
   std::vector<core::EpisodeSetup> assign(const std::vector<core::EpisodeSetup>& setups);
 
@@ -109,7 +115,8 @@ class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
   Eigen::MatrixXd placed_actions_;
   bool share_by_cost_ = true;
   bool run_ahead_ = true;
-  int starts_ = 0, reassigned_ = 0, rollouts_ = 0;
+  std::vector<std::vector<int>> mesh_sends_;  // per rank: the designs whose meshes go with its next setups
+  int starts_ = 0, reassigned_ = 0, rollouts_ = 0, meshes_sent_ = 0, meshes_received_ = 0;
   double start_wait_s_ = 0.0, step_wait_s_ = 0.0, rollout_wait_s_ = 0.0;
   rl::ActorCritic::InferenceCache cache_;  // rank 0's forward passes in rollout()
 };

@@ -80,6 +80,7 @@ class ThreadEnvPool final : public EnvPool {
   double step_seconds() const override;
   double build_seconds() const override { return sims_->build_seconds(); }
   const SimulatorPool& simulators() const { return *sims_; }
+  SimulatorPool& simulators() { return *sims_; }
   void set_step_observer(std::size_t i, StepObserver observer, int every) override;
   std::size_t threads() const { return pool_.size(); }
   rl::ThreadPool* thread_pool() override { return &pool_; }

@@ -46,7 +46,10 @@ std::string rollout_sharing_note(core::EnvPool& pool) {
          " iterations' starts (contiguous slices at the others: the first, and any where the costs gave that split); "
          "each rank ran its environments' whole rollout, meeting the others once, in " +
          std::to_string(mpi->rollouts()) + " of them (the others step by step, meeting at every decision: "
-         "recurrent policies and observation statistics need that)";
+         "recurrent policies and observation statistics need that); designs' meshes: " +
+         std::to_string(mpi->meshes_received()) + " made on the other ranks and sent to rank 0, " +
+         std::to_string(mpi->meshes_sent()) + " sent to a rank that had not built the design (built there from "
+         "the mesh instead of meshing)";
 }
 
 void serve_rollouts(const RunSettings& s, std::size_t threads, int rank, int ranks) {

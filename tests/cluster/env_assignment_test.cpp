@@ -149,7 +149,7 @@ TEST(AssignByCost, RandomCostsGiveAPermutationWithinTheGreedyBound) {
 
 // Each rank's total with its builds, recounted from the final order: a rank that steps k
 // environments of a design it holds h simulators of builds max(0, k - h) simulators, and the
-// design's model too if h = 0 < k.
+// design's model too if h = 0 < k (from its mesh where that is known).
 std::vector<double> totals(const std::vector<double>& cost, const std::vector<EnvSlice>& slices,
                            const std::vector<std::size_t>& order, const BuildCosts& b) {
   std::vector<double> l = loads(cost, slices, order);
@@ -163,7 +163,8 @@ std::vector<double> totals(const std::vector<double>& cost, const std::vector<En
     }
     for (std::size_t d = 0; d < k.size(); ++d) {
       const int h = d < b.held[r].size() ? b.held[r][d] : 0;
-      if (h == 0 && k[d] > 0) l[r] += b.model;
+      const bool mesh_known = d < b.meshed.size() && b.meshed[d];
+      if (h == 0 && k[d] > 0) l[r] += mesh_known ? b.model_from_mesh : b.model;
       l[r] += std::max(0, k[d] - h) * b.simulator;
     }
   }
@@ -198,6 +199,35 @@ TEST(AssignByCost, BuildsSendADesignToTheRankThatHoldsIt) {
   want[12] = 1;
   EXPECT_EQ(grow.held[0], want);
   EXPECT_TRUE(grow.held[1].empty());
+}
+
+// A known mesh makes a design cheap to take up for a rank that has not built it. Four equal costs
+// (1), designs 6, 6, 7, 8; rank 0 holds two simulators of 6, rank 1 nothing; a model costs 1 to
+// mesh, 0.1 from a known mesh; simulators cost nothing. Meshes unknown: 0 -> rank 0 (1 < 2); 1:
+// rank 0 2, rank 1 2 -> rank 0 (tie), full; 2 and 3 -> rank 1 (4: two meshings); no swap lowers
+// the larger total (1 <-> 2 gives 3 and 4 at a larger sum). Design 6's mesh known: 0 -> rank 0 (1 <
+// 1.1); 1 -> rank 1 (1.1 < 2); 2: rank 0 3, rank 1 3.1 -> rank 0, full; 3 -> rank 1 (3.1); swaps
+// of 1 or 0 with 2 or 3 give a larger total of 4.
+TEST(AssignByCost, AKnownMeshMakesADesignCheapToTakeUp) {
+  const std::vector<double> cost(4, 1.0);
+  const auto slices = env_slices(4, 2);
+  BuildCosts b{1.0, 0.0, {6, 6, 7, 8}, {std::vector<int>(9, 0), std::vector<int>(9, 0)}};
+  b.held[0][6] = 2;
+  b.model_from_mesh = 0.1;
+  const std::vector<std::size_t> unknown = assign_by_cost(cost, slices, {}, b);
+  EXPECT_EQ(unknown, (std::vector<std::size_t>{0, 1, 2, 3}));
+  EXPECT_EQ(totals(cost, slices, unknown, b), (std::vector<double>{2.0, 4.0}));
+  b.meshed.assign(7, 0);
+  b.meshed[6] = 1;
+  const std::vector<std::size_t> known = assign_by_cost(cost, slices, {}, b);
+  EXPECT_EQ(known, (std::vector<std::size_t>{0, 2, 1, 3}));
+  const std::vector<double> t = totals(cost, slices, known, b);
+  EXPECT_NEAR(t[0], 3.0, 1e-12);
+  EXPECT_NEAR(t[1], 3.1, 1e-12);
+  b.model_from_mesh = -0.1;
+  EXPECT_THROW(assign_by_cost(cost, slices, {}, b), std::invalid_argument);
+  b.model_from_mesh = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(assign_by_cost(cost, slices, {}, b), std::invalid_argument);
 }
 
 // Random costs, designs and held simulators: with both build costs zero the order is the plain
