@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "base/thread_cpu_seconds.hpp"
 #include "fem/design.hpp"
@@ -16,9 +17,17 @@ SimulatorPool::SimulatorPool(fem::WhiskerModelSpec spec, fem::SceneConfig scene,
   for (int j = 0; j < fem::kDesignCount; ++j) build_mutex_.push_back(std::make_unique<std::mutex>());
 }
 
-std::shared_ptr<const fem::Model> SimulatorPool::model(int design) {
+namespace {
+
+void check_design(int design) {
   if (design < 0 || design >= fem::kDesignCount)
     throw std::out_of_range("SimulatorPool: design index " + std::to_string(design) + " outside 0..109");
+}
+
+}  // namespace
+
+std::shared_ptr<const fem::Model> SimulatorPool::model(int design) {
+  check_design(design);
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (models_[design]) return models_[design];
@@ -31,29 +40,31 @@ std::shared_ptr<const fem::Model> SimulatorPool::model(int design) {
   }
   const double t0 = thread_cpu_seconds();
   std::shared_ptr<const fem::Model> m = fem::build_whisker_model(design, spec_);
-  const double spent = thread_cpu_seconds() - t0;
-  std::lock_guard<std::mutex> lock(mutex_);
-  models_[design] = m;
-  built_.seconds += spent;
-  built_.model_seconds += spent;
-  ++built_.models;
-  meshed_.push_back(design);
+  store(design, m, thread_cpu_seconds() - t0, false);
   return m;
 }
 
+void SimulatorPool::store(int design, std::shared_ptr<const fem::Model> m, double seconds, bool adopted) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  models_[design] = std::move(m);
+  built_.seconds += seconds;
+  if (adopted) {
+    built_.adopt_seconds += seconds;
+    ++built_.adopted;
+  } else {
+    built_.model_seconds += seconds;
+    ++built_.models;
+    meshed_.push_back(design);
+  }
+}
+
 bool SimulatorPool::adopt_mesh(int design, fem::TetMesh mesh) {
-  if (design < 0 || design >= fem::kDesignCount)
-    throw std::out_of_range("SimulatorPool: design index " + std::to_string(design) + " outside 0..109");
+  check_design(design);
   std::lock_guard<std::mutex> build(*build_mutex_[design]);
   if (has_model(design)) return false;
   const double t0 = thread_cpu_seconds();
   std::shared_ptr<const fem::Model> m = fem::whisker_model_from_mesh(design, std::move(mesh), spec_);
-  const double spent = thread_cpu_seconds() - t0;
-  std::lock_guard<std::mutex> lock(mutex_);
-  models_[design] = m;
-  built_.seconds += spent;
-  built_.adopt_seconds += spent;
-  ++built_.adopted;
+  store(design, std::move(m), thread_cpu_seconds() - t0, true);
   return true;
 }
 

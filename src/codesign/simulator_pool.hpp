@@ -60,6 +60,9 @@ class SimulatorPool {
   double build_seconds() const { return build_stats().seconds; }
 
  private:
+  // Keeps a built model and counts its seconds (as adopted from a mesh, or meshed here).
+  void store(int design, std::shared_ptr<const fem::Model> m, double seconds, bool adopted);
+
   const fem::WhiskerModelSpec spec_;
   const fem::SceneConfig scene_;
   const fem::SolverConfig solver_;
