@@ -65,28 +65,27 @@ void send_command(int to, Command c, int flag) {
   check(MPI_Send(header, 2, MPI_INT, to, kTagCommand, MPI_COMM_WORLD), "send a command");
 }
 
-// The end reasons follow the step's numbers at once, so a blocking probe waits no longer than an
-// exchange.
-std::string recv_string(int from, int tag) {
+// A message whose length the receiver does not know, into a container C of MPI type `type` (a
+// std::string of MPI_CHAR, a std::vector<double> of MPI_DOUBLE). Each such message follows another
+// of the same sender at once (the end reasons the step's numbers, the meshes the setups or the
+// record), so the blocking probe waits no longer than an exchange.
+template <class C>
+C recv_unsized(int from, int tag, MPI_Datatype type, const char* what) {
   MPI_Status st;
   check(MPI_Probe(from, tag, MPI_COMM_WORLD, &st), "probe");
   int n = 0;
-  MPI_Get_count(&st, MPI_CHAR, &n);
-  std::string s(static_cast<std::size_t>(n), '\0');
-  check(MPI_Recv(s.data(), n, MPI_CHAR, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receive the end reasons");
-  return s;
+  MPI_Get_count(&st, type, &n);
+  C c(static_cast<std::size_t>(n), typename C::value_type{});
+  check(MPI_Recv(c.data(), n, type, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE), what);
+  return c;
 }
 
-// A message of doubles whose length the receiver does not know (it follows another message of the
-// same sender at once, so the blocking probe waits no longer than an exchange).
-std::vector<double> recv_any_doubles(int from, int tag, const char* what) {
-  MPI_Status st;
-  check(MPI_Probe(from, tag, MPI_COMM_WORLD, &st), "probe");
-  int n = 0;
-  MPI_Get_count(&st, MPI_DOUBLE, &n);
-  std::vector<double> v(static_cast<std::size_t>(n));
-  check(MPI_Recv(v.data(), n, MPI_DOUBLE, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE), what);
-  return v;
+std::string recv_string(int from, int tag) {
+  return recv_unsized<std::string>(from, tag, MPI_CHAR, "receive the end reasons");
+}
+
+std::vector<DesignMesh> recv_meshes(int from) {
+  return unpack_meshes(recv_unsized<std::vector<double>>(from, kTagMeshes, MPI_DOUBLE, "receive meshes"));
 }
 
 // The meshes of `designs` from `sims` (each has its model there) as one message.
@@ -100,12 +99,9 @@ std::vector<double> pack_held_meshes(core::SimulatorPool& sims, const std::vecto
   return pack_meshes(designs, meshes);
 }
 
-// Builds the models of a meshes message in `sims`; returns how many it built (a design `sims`
-// already has is skipped).
-int adopt_meshes(core::SimulatorPool& sims, const std::vector<double>& message) {
-  int built = 0;
-  for (DesignMesh& m : unpack_meshes(message)) built += sims.adopt_mesh(m.design, std::move(m.mesh)) ? 1 : 0;
-  return built;
+// Builds the models of received meshes in `sims` (a design `sims` already has is skipped).
+void adopt_meshes(core::SimulatorPool& sims, std::vector<DesignMesh> meshes) {
+  for (DesignMesh& m : meshes) sims.adopt_mesh(m.design, std::move(m.mesh));
 }
 
 // A rank's part after its answer: the meshes it made since the last one.
@@ -222,15 +218,15 @@ std::vector<core::EpisodeSetup> MpiEnvPool::assign(const std::vector<core::Episo
   if (!predicted.empty() && share_by_cost_) order_ = assign_by_cost(predicted, slices_, pinned_, build_);
   // Each rank's designs it holds no simulator of (so no model: a rank keeps what it built) and
   // whose mesh rank 0 has: their meshes go with the setups.
-  for (int r = 1; r < ranks_; ++r) {
-    std::vector<int>& send = mesh_sends_[static_cast<std::size_t>(r)];
+  for (std::size_t r = 1; r < slices_.size(); ++r) {
+    std::vector<int>& send = mesh_sends_[r];
     send.clear();
-    const std::vector<int>& held = build_.held[static_cast<std::size_t>(r)];
-    for (std::size_t j = slices_[static_cast<std::size_t>(r)].first;
-         j < slices_[static_cast<std::size_t>(r)].first + slices_[static_cast<std::size_t>(r)].count; ++j) {
+    const std::vector<int>& held = build_.held[r];
+    for (std::size_t j = slices_[r].first; j < slices_[r].first + slices_[r].count; ++j) {
       const int d = build_.design[order_[j]];
-      if (d < 0 || d >= fem::kDesignCount || !build_.meshed[static_cast<std::size_t>(d)]) continue;
-      if (static_cast<std::size_t>(d) < held.size() && held[static_cast<std::size_t>(d)] > 0) continue;
+      if (d < 0 || d >= fem::kDesignCount) continue;
+      const auto k = static_cast<std::size_t>(d);
+      if (!build_.meshed[k] || (k < held.size() && held[k] > 0)) continue;
       if (std::find(send.begin(), send.end(), d) == send.end()) send.push_back(d);
     }
     meshes_sent_ += static_cast<int>(send.size());
@@ -366,9 +362,9 @@ void MpiEnvPool::send_meshes_to(int r) {
 }
 
 void MpiEnvPool::receive_meshes_from(int r) {
-  const std::vector<double> v = recv_any_doubles(r, kTagMeshes, "receive meshes");
-  meshes_received_ += static_cast<int>(unpack_meshes(v).size());
-  adopt_meshes(local_->simulators(), v);
+  std::vector<DesignMesh> meshes = recv_meshes(r);
+  meshes_received_ += static_cast<int>(meshes.size());
+  adopt_meshes(local_->simulators(), std::move(meshes));
 }
 
 // The settle, step and build CPU seconds of ranks 1.. (one query each).
@@ -426,7 +422,7 @@ void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model) {
         return;
       case kStart: {
         const std::vector<core::EpisodeSetup> setups = unpack_setups(recv_doubles(n * kSetupFields, 0, kTagPayload));
-        adopt_meshes(local.simulators(), recv_any_doubles(0, kTagMeshes, "receive meshes"));
+        adopt_meshes(local.simulators(), recv_meshes(0));
         const Eigen::MatrixXd obs = local.start(setups);
         send_doubles(std::vector<double>(obs.data(), obs.data() + obs.size()), 0, kTagReply);
         send_own_meshes(local);
@@ -453,7 +449,7 @@ void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model) {
         const auto width = static_cast<std::size_t>(where[1]);
         std::vector<std::size_t> places;
         for (std::size_t j = 0; j < n; ++j) places.push_back(static_cast<std::size_t>(where[2 + j]));
-        adopt_meshes(local.simulators(), recv_any_doubles(0, kTagMeshes, "receive meshes"));
+        adopt_meshes(local.simulators(), recv_meshes(0));
         if (!model) throw std::runtime_error("MPI rollout backend: a whole rollout asked of a rank without a feed-forward model");
         std::vector<float> params(policy_size(*model));
         check(MPI_Bcast(params.data(), static_cast<int>(params.size()), MPI_FLOAT, 0, MPI_COMM_WORLD), "receive the policy");
@@ -481,11 +477,7 @@ void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model) {
         send_doubles(local.work_since_start(), 0, kTagReply);
         break;
       case kPing: {
-        MPI_Status st;
-        check(MPI_Probe(0, kTagPayload, MPI_COMM_WORLD, &st), "probe");
-        int got = 0;
-        MPI_Get_count(&st, MPI_DOUBLE, &got);
-        recv_doubles(static_cast<std::size_t>(got), 0, kTagPayload);
+        recv_unsized<std::vector<double>>(0, kTagPayload, MPI_DOUBLE, "receive");
         send_doubles(std::vector<double>(static_cast<std::size_t>(std::max(0, header[1])), 0.0), 0, kTagReply);
         const std::string reasons(8, 'x');
         check(MPI_Send(reasons.data(), static_cast<int>(reasons.size()), MPI_CHAR, 0, kTagReasons, MPI_COMM_WORLD),
