@@ -218,11 +218,12 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   const run::RunConfig setup = run::read_run_config(o.config);
   const run::RunSettings s = run::run_settings(setup);
   const core::LoopConfig& lc = s.loop;
-  const int ranks_here = cluster::ranks_on_this_machine();  // collective: before the ranks part
-  if (run::serve_unless_rank_zero(s, static_cast<std::size_t>(o.threads))) return 0;
+  const std::vector<int> here = cluster::ranks_on_this_machine();  // collective: before the ranks part
+  const int ranks_here = static_cast<int>(here.size());
+  if (run::serve_unless_rank_zero(s, static_cast<std::size_t>(o.threads), here)) return 0;
   const int ranks = cluster::world_size();
   auto sims = std::make_shared<core::SimulatorPool>(s.spec, s.scene, s.solver);
-  std::unique_ptr<core::EnvPool> envs = run::make_rollout_pool(sims, lc, static_cast<std::size_t>(o.threads), ranks);
+  std::unique_ptr<core::EnvPool> envs = run::make_rollout_pool(sims, lc, static_cast<std::size_t>(o.threads), ranks, here);
   auto* mpi_pool = dynamic_cast<cluster::MpiEnvPool*>(envs.get());
   if (mpi_pool) mpi_pool->set_share_by_cost(!o.contiguous);
   if (mpi_pool) mpi_pool->set_run_ahead(!o.lockstep);
@@ -298,6 +299,8 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   const double step_wait0 = mpi_pool ? mpi_pool->step_wait_seconds() : 0.0;
   const double rollout_wait0 = mpi_pool ? mpi_pool->rollout_wait_seconds() : 0.0;
   const int rollouts0 = mpi_pool ? mpi_pool->rollouts() : 0;
+  const double lent0 = mpi_pool ? mpi_pool->lent_seconds() : 0.0;
+  const double lent_all0 = mpi_pool ? mpi_pool->lent_seconds_of_all_ranks() : 0.0;
   const int received0 = mpi_pool ? mpi_pool->meshes_received() : 0, sent0 = mpi_pool ? mpi_pool->meshes_sent() : 0;
   double collect = 0.0, update = 0.0, dist = 0.0, policy = 0.0, imbalance = 0.0, imbalance_s = 0.0;
   double minibatches = 0.0;  // with a gradient: those applied, and the one that stopped the update early
@@ -363,9 +366,13 @@ int run_bench_cluster(const BenchClusterOptions& o) {
                 (mpi_pool->step_wait_seconds() - step_wait0) / o.iterations);
   if (mpi_pool)
     std::printf("  whole rollouts on the ranks (meeting once per iteration): %d of %d timed iterations%s; rank 0 idle "
-                "waiting for the other ranks' records after its own share: %.3f s per iteration\n",
+                "waiting for the other ranks' records after its own share: %.3f s per iteration; rank 0 "
+                "stepped on threads lent by ranks of its machine that were done: %.3f s per iteration (every rank: "
+                "%.3f s)\n",
                 mpi_pool->rollouts() - rollouts0, o.iterations, o.lockstep ? " (--lockstep)" : "",
-                (mpi_pool->rollout_wait_seconds() - rollout_wait0) / o.iterations);
+                (mpi_pool->rollout_wait_seconds() - rollout_wait0) / o.iterations,
+                (mpi_pool->lent_seconds() - lent0) / o.iterations,
+                (mpi_pool->lent_seconds_of_all_ranks() - lent_all0) / o.iterations);
   if (m1.busy + m1.idle > 0.0)
     std::printf("  the machine over the timed iterations (/proc/stat, every process): %.3f core-s busy, %.3f idle, %.3f "
                 "stolen by the hypervisor per iteration; busy beyond the settles and FEM steps: %.3f core-s\n",

@@ -26,9 +26,10 @@ namespace {
 // travel (kTagMeshes, pack_meshes): after the setups (and the places) rank 0 sends each rank the
 // meshes of the designs it gets without holding them, as far as rank 0 has them; after its answer
 // each rank sends back the meshes it made itself meanwhile. Both messages always go (an empty one
-// holds a count of 0).
+// holds a count of 0). During a whole rollout a rank that has run its share sends each other rank on
+// its machine a note (kTagDone, one int), which they take up between decisions (LendingRound).
 enum Command : int { kStop = 0, kStart = 1, kStep = 2, kTimes = 3, kPing = 4, kCosts = 5, kRollout = 6 };
-constexpr int kTagCommand = 101, kTagPayload = 102, kTagReply = 103, kTagReasons = 104, kTagMeshes = 105;
+constexpr int kTagCommand = 101, kTagPayload = 102, kTagReply = 103, kTagReasons = 104, kTagMeshes = 105, kTagDone = 106;
 
 void send_doubles(const std::vector<double>& v, int to, int tag) {
   check(MPI_Send(v.data(), static_cast<int>(v.size()), MPI_DOUBLE, to, tag, MPI_COMM_WORLD), "send");
@@ -104,6 +105,82 @@ void adopt_meshes(core::SimulatorPool& sims, std::vector<DesignMesh> meshes) {
   for (DesignMesh& m : meshes) sims.adopt_mesh(m.design, std::move(m.mesh));
 }
 
+// Sends without holding a core while the receiver is not there yet (a whole rollout's record may wait
+// for rank 0 to finish its own share, and rank 0 may be using this rank's core meanwhile).
+void send_without_spinning(const void* data, std::size_t count, MPI_Datatype type, int to, int tag, const char* what) {
+  MPI_Request request;
+  check(MPI_Isend(data, static_cast<int>(count), type, to, tag, MPI_COMM_WORLD, &request), what);
+  wait_without_spinning(request, MPI_STATUS_IGNORE, what);
+}
+
+// One whole rollout's lending on one rank (lent_threads.hpp). Made before the rank's share starts:
+// the pool steps on the rank's own threads and asks poll() between environments (its lender), so
+// each other rank of the machine whose note has come lends its threads from the next environment
+// on. done() once the share is run (a note to each of them); finish() after the rank's record: it
+// waits for the note of every other rank of the machine, so none is left over for the next
+// rollout, and puts the pool back on the rank's own threads.
+class LendingRound {
+ public:
+  LendingRound(core::ThreadEnvPool& pool, const Lending& lending)
+      : pool_(pool), lending_(lending), heard_(lending.peers.size(), 0) {
+    pool_.set_threads_in_use(own());
+    if (!heard_.empty()) pool_.set_lender([this] { return poll(); });
+  }
+  ~LendingRound() { pool_.set_lender({}); }
+  LendingRound(const LendingRound&) = delete;
+  LendingRound& operator=(const LendingRound&) = delete;
+
+  void done() {
+    if (lent_since_ >= 0.0) lent_s_ += MPI_Wtime() - lent_since_;
+    lent_since_ = -1.0;
+    pool_.set_lender({});
+    notes_.assign(lending_.peers.size(), MPI_REQUEST_NULL);
+    for (std::size_t k = 0; k < notes_.size(); ++k)
+      check(MPI_Isend(&kNote, 1, MPI_INT, lending_.peers[k], kTagDone, MPI_COMM_WORLD, &notes_[k]), "send a note");
+  }
+
+  void finish() {
+    for (std::size_t k = 0; k < heard_.size(); ++k)
+      if (!heard_[k]) receive(k);
+    for (MPI_Request& r : notes_) wait_without_spinning(r, MPI_STATUS_IGNORE, "send a note");
+    pool_.set_threads_in_use(own());
+  }
+
+  // Wall seconds the share was stepped on more threads than the rank's own.
+  double lent_seconds() const { return lent_s_; }
+
+ private:
+  std::size_t own() const { return lending_.own_threads == 0 ? pool_.threads() : lending_.own_threads; }
+
+  // The threads the pool may use now: the rank's own and those of the ranks whose notes have come.
+  std::size_t poll() {
+    for (std::size_t k = 0; k < heard_.size(); ++k) {
+      if (heard_[k]) continue;
+      int flag = 0;
+      check(MPI_Iprobe(lending_.peers[k], kTagDone, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE), "probe for a rank's note");
+      if (flag) receive(k);
+    }
+    const std::size_t n = threads_in_use(lending_.own_threads, finished_, pool_.threads());
+    if (n > own() && lent_since_ < 0.0) lent_since_ = MPI_Wtime();
+    return n;
+  }
+
+  void receive(std::size_t k) {
+    int note = 0;
+    recv_into(&note, 1, MPI_INT, lending_.peers[k], kTagDone, MPI_STATUS_IGNORE, "receive a note");
+    heard_[k] = 1;
+    ++finished_;
+  }
+
+  static constexpr int kNote = 1;
+  core::ThreadEnvPool& pool_;
+  const Lending& lending_;
+  std::vector<char> heard_;
+  std::size_t finished_ = 0;
+  std::vector<MPI_Request> notes_;
+  double lent_since_ = -1.0, lent_s_ = 0.0;
+};
+
 // A rank's part after its answer: the meshes it made since the last one.
 void send_own_meshes(core::ThreadEnvPool& local) {
   core::SimulatorPool& sims = local.simulators();
@@ -131,11 +208,15 @@ std::vector<double> flat_normals(const std::vector<Eigen::MatrixXd>& normals, st
 
 }  // namespace
 
-MpiEnvPool::MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n_envs, int ranks)
-    : local_(std::move(local)), n_envs_(n_envs), ranks_(ranks), slices_(env_slices(n_envs, ranks)) {
+MpiEnvPool::MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n_envs, int ranks, Lending lending)
+    : local_(std::move(local)), n_envs_(n_envs), ranks_(ranks), slices_(env_slices(n_envs, ranks)),
+      lending_(std::move(lending)) {
   if (!local_ || local_->size() != slices_[0].count)
     throw std::invalid_argument("MpiEnvPool: rank 0's pool must hold its slice of " + std::to_string(slices_[0].count) +
                                 " environments");
+  if (lending_.own_threads > local_->threads())
+    throw std::invalid_argument("MpiEnvPool: rank 0's pool has fewer threads than its own");
+  if (lending_.own_threads > 0) local_->set_threads_in_use(lending_.own_threads);
   if (local_->threads() < 2) update_pool_ = std::make_unique<rl::ThreadPool>(2);
   result_ = rl::VecStepResult(spec().observation.dim(), n_envs);
   placed_ = rl::VecStepResult(spec().observation.dim(), n_envs);
@@ -340,7 +421,9 @@ core::ShareRollout MpiEnvPool::rollout(const std::vector<core::EpisodeSetup>& se
   const std::vector<core::EpisodeSetup> mine(placed.begin(), placed.begin() + static_cast<std::ptrdiff_t>(slices_[0].count));
   const std::vector<std::size_t> my_places = places_of(slices_[0]);
   core::ShareRollout all = core::empty_share(n_steps, n_envs_, d, a);
+  LendingRound lending(*local_, lending_);
   const core::ShareRollout own = core::run_share(*local_, mine, model, cache_, my_places, n_envs_, normals, gamma);
+  lending.done();
   core::place_share(own, my_places, all);
   all.policy_s = own.policy_s;
   const auto waiting = std::chrono::steady_clock::now();
@@ -354,6 +437,8 @@ core::ShareRollout MpiEnvPool::rollout(const std::vector<core::EpisodeSetup>& se
     receive_meshes_from(r);
   }
   rollout_wait_s_ += seconds_since(waiting);
+  lending.finish();
+  lent_s_ += lending.lent_seconds();
   return all;
 }
 
@@ -367,9 +452,10 @@ void MpiEnvPool::receive_meshes_from(int r) {
   adopt_meshes(local_->simulators(), std::move(meshes));
 }
 
-// The settle, step and build CPU seconds of ranks 1.. (one query each).
-std::array<double, 3> MpiEnvPool::remote_seconds() const {
-  std::array<double, 3> sum{0.0, 0.0, 0.0};
+// The settle, step and build CPU seconds of ranks 1.., and their wall seconds on lent threads (one
+// query each).
+std::array<double, 4> MpiEnvPool::remote_seconds() const {
+  std::array<double, 4> sum{0.0, 0.0, 0.0, 0.0};
   for (int r = 1; r < ranks_; ++r) {
     send_command(r, kTimes, 0);
     const std::vector<double> v = recv_doubles(sum.size(), r, kTagReply);
@@ -383,6 +469,8 @@ double MpiEnvPool::settle_seconds() const { return local_->settle_seconds() + re
 double MpiEnvPool::step_seconds() const { return local_->step_seconds() + remote_seconds()[1]; }
 
 double MpiEnvPool::build_seconds() const { return local_->build_seconds() + remote_seconds()[2]; }
+
+double MpiEnvPool::lent_seconds_of_all_ranks() const { return lent_s_ + remote_seconds()[3]; }
 
 void MpiEnvPool::set_step_observer(std::size_t i, StepObserver observer, int every) {
   if (i >= slices_[0].count)
@@ -411,8 +499,12 @@ double time_exchanges(int ranks, std::size_t out_doubles, std::size_t in_doubles
   return (MPI_Wtime() - t0) / (static_cast<double>(repeats) * (ranks - 1));
 }
 
-void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model) {
+void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model, const Lending& lending) {
   const std::size_t n = local.size(), a = local.spec().action.dim();
+  if (lending.own_threads > local.threads())
+    throw std::invalid_argument("serve_env_pool: the rank's pool has fewer threads than its own");
+  if (lending.own_threads > 0) local.set_threads_in_use(lending.own_threads);
+  double lent_s = 0.0;  // wall seconds of whole rollouts stepped on lent threads
   rl::ActorCritic::InferenceCache cache;
   for (;;) {
     int header[2] = {0, 0};
@@ -461,17 +553,21 @@ void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model) {
         for (int k = 0; k < n_steps; ++k)
           normals.emplace_back(Eigen::Map<const Eigen::MatrixXd>(z.data() + static_cast<std::size_t>(k) * a * width,
                                                                  static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(width)));
+        LendingRound lend(local, lending);
         const PackedShare p = pack_share(core::run_share(local, setups, *model, cache, places, width, normals, where[0]));
-        check(MPI_Send(p.floats.data(), static_cast<int>(p.floats.size()), MPI_FLOAT, 0, kTagReply, MPI_COMM_WORLD),
-              "send the rollout");
-        send_doubles(p.doubles, 0, kTagReply);
-        check(MPI_Send(p.reasons.data(), static_cast<int>(p.reasons.size()), MPI_CHAR, 0, kTagReasons, MPI_COMM_WORLD),
-              "send the end reasons");
+        lend.done();
+        // Rank 0 may still be stepping its share, on this rank's core too: wait for it asleep.
+        send_without_spinning(p.floats.data(), p.floats.size(), MPI_FLOAT, 0, kTagReply, "send the rollout");
+        send_without_spinning(p.doubles.data(), p.doubles.size(), MPI_DOUBLE, 0, kTagReply, "send the rollout");
+        send_without_spinning(p.reasons.data(), p.reasons.size(), MPI_CHAR, 0, kTagReasons, "send the end reasons");
         send_own_meshes(local);
+        lend.finish();
+        lent_s += lend.lent_seconds();
         break;
       }
       case kTimes:
-        send_doubles({local.settle_seconds(), local.step_seconds(), local.build_seconds()}, 0, kTagReply);
+        send_doubles({local.settle_seconds(), local.step_seconds(), local.build_seconds(), lent_s}, 0,
+                     kTagReply);
         break;
       case kCosts:
         send_doubles(local.work_since_start(), 0, kTagReply);

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "cluster/env_assignment.hpp"
+#include "cluster/lent_threads.hpp"
 #include "codesign/env_pool.hpp"
 #include "codesign/run_ahead.hpp"
 #include "rl/actor_critic.hpp"
@@ -41,7 +42,10 @@ namespace codesign::cluster {
 // must be in serve_env_pool with pools of their slices' sizes. The destructor tells them to stop.
 class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
  public:
-  MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n_envs, int ranks);
+  // `lending`: rank 0's own threads and the other ranks on its machine, whose threads it takes up
+  // in a whole rollout once they are done (lent_threads.hpp); `local` holds room for them. Default:
+  // none lent, rank 0 uses all of local's threads.
+  MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n_envs, int ranks, Lending lending = {});
   ~MpiEnvPool() override;
   MpiEnvPool(const MpiEnvPool&) = delete;
   MpiEnvPool& operator=(const MpiEnvPool&) = delete;
@@ -88,10 +92,15 @@ class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
   // Designs' meshes sent so far to ranks that got a design they had not built (so they built its
   // model from the mesh instead of meshing it), and meshes the ranks sent rank 0 (the ones they made).
   int meshes_sent() const { return meshes_sent_; }
+  // Wall seconds of whole rollouts rank 0 stepped on more threads than its own, lent by ranks of
+  // its machine that were done (lent_threads.hpp); and the same summed over every rank (one
+  // exchange with each).
+  double lent_seconds() const { return lent_s_; }
+  double lent_seconds_of_all_ranks() const;
   int meshes_received() const { return meshes_received_; }
 
  private:
-  std::array<double, 3> remote_seconds() const;  // settle, step, build: ranks 1..
+  std::array<double, 4> remote_seconds() const;  // settle, step, build CPU seconds, lent wall seconds: ranks 1..
   void learn_costs();  // from the iteration just ended, into design_cost_
   void send_meshes_to(int r);       // mesh_sends_[r], after r's setups
   void receive_meshes_from(int r);  // after r's answer: the meshes r made, built here too
@@ -116,8 +125,9 @@ class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
   bool share_by_cost_ = true;
   bool run_ahead_ = true;
   std::vector<std::vector<int>> mesh_sends_;  // per rank: the designs whose meshes go with its next setups
+  Lending lending_;
   int starts_ = 0, reassigned_ = 0, rollouts_ = 0, meshes_sent_ = 0, meshes_received_ = 0;
-  double start_wait_s_ = 0.0, step_wait_s_ = 0.0, rollout_wait_s_ = 0.0;
+  double start_wait_s_ = 0.0, step_wait_s_ = 0.0, rollout_wait_s_ = 0.0, lent_s_ = 0.0;
   rl::ActorCritic::InferenceCache cache_;  // rank 0's forward passes in rollout()
 };
 
@@ -134,6 +144,7 @@ double time_exchanges(int ranks, std::size_t out_doubles, std::size_t in_doubles
 // a whole rollout without a model; std::invalid_argument from the message readers
 // (rollout_messages.hpp) if a setup's fields or the policy's size do not fit, which rank 0
 // running the same config cannot send.
-void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model = nullptr);
+// `lending`: as MpiEnvPool's, for this rank.
+void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model = nullptr, const Lending& lending = {});
 
 }  // namespace codesign::cluster

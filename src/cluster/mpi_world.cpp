@@ -1,5 +1,6 @@
 #include "cluster/mpi_world.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -63,15 +64,20 @@ int world_size() {
   return n;
 }
 
-int ranks_on_this_machine() {
-  if (!mpi_active()) return 1;
+std::vector<int> ranks_on_this_machine() {
+  if (!mpi_active()) return {0};
   MPI_Comm here;
   if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &here) != MPI_SUCCESS)
     throw std::runtime_error("MPI_Comm_split_type failed");
   int n = 1;
   MPI_Comm_size(here, &n);
+  const int me = world_rank();
+  std::vector<int> ranks(static_cast<std::size_t>(n), 0);
+  const int rc = MPI_Allgather(&me, 1, MPI_INT, ranks.data(), 1, MPI_INT, here);
   MPI_Comm_free(&here);
-  return n;
+  if (rc != MPI_SUCCESS) throw std::runtime_error("MPI_Allgather of the machine's ranks failed");
+  std::sort(ranks.begin(), ranks.end());
+  return ranks;
 }
 
 void abort_world(int status) {

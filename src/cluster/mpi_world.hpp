@@ -5,6 +5,7 @@
 // MPI's own state is process-wide; this file keeps none of its own: world_rank()/world_size()
 // ask the library (0 and 1 when MPI was not initialised).
 #include <string>
+#include <vector>
 
 namespace codesign::cluster {
 
@@ -25,9 +26,10 @@ class MpiSession {
 int world_rank();   // 0 without MPI
 int world_size();   // 1 without MPI
 
-// How many ranks of the job run on this process's machine (they share its memory), 1 without MPI.
-// Collective: every rank of the job must call it.
-int ranks_on_this_machine();
+// The world ranks of the job's ranks on this process's machine (they share its memory and cores),
+// this one included, in increasing order; {0} without MPI. Collective: every rank of the job must
+// call it.
+std::vector<int> ranks_on_this_machine();
 
 // Ends every rank of the job at once (MPI_Abort) with `status`; without MPI, returns.
 void abort_world(int status);

@@ -14,7 +14,7 @@ namespace codesign::core {
 
 ThreadEnvPool::ThreadEnvPool(std::shared_ptr<SimulatorPool> sims, const TaskConfig& task, std::size_t n_envs,
                              std::size_t n_threads, bool privileged)
-    : sims_(sims), pool_(n_threads) {
+    : sims_(sims), pool_(n_threads), in_use_(pool_.size()) {
   if (!sims_) throw std::invalid_argument("ThreadEnvPool: no simulator pool");
   if (n_envs < 1) throw std::invalid_argument("ThreadEnvPool: need at least one environment");
   for (std::size_t i = 0; i < n_envs; ++i) envs_.push_back(std::make_unique<WhiskerEnv>(sims, task, privileged));
@@ -30,6 +30,17 @@ ThreadEnvPool::ThreadEnvPool(std::shared_ptr<SimulatorPool> sims, const TaskConf
 void ThreadEnvPool::order_by_cost(const std::vector<double>& cost) {
   std::iota(order_.begin(), order_.end(), std::size_t{0});
   std::stable_sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) { return cost[a] > cost[b]; });
+}
+
+void ThreadEnvPool::set_threads_in_use(std::size_t n) { in_use_ = std::clamp<std::size_t>(n, 1, pool_.size()); }
+
+std::function<std::size_t()> ThreadEnvPool::recount() {
+  if (!lender_) return {};
+  set_threads_in_use(lender_());
+  return [this] {
+    set_threads_in_use(lender_());
+    return in_use_;
+  };
 }
 
 void ThreadEnvPool::set_step_observer(std::size_t i, StepObserver observer, int every) {
@@ -50,12 +61,13 @@ Eigen::MatrixXd ThreadEnvPool::start(const std::vector<EpisodeSetup>& setups) {
   order_by_cost(predicted);
   for (std::size_t i = 0; i < envs_.size(); ++i) work_mark_[i] = envs_[i]->settle_seconds() + envs_[i]->step_seconds();
   std::vector<double> took(envs_.size());  // this start's cost per environment
+  const std::function<std::size_t()> more = recount();
   pool_.parallel_for_ordered(order_, [&](std::size_t i) {
     const auto t0 = std::chrono::steady_clock::now();
     envs_[i]->set_episode(setups[i]);
     obs.col(static_cast<Eigen::Index>(i)) = envs_[i]->reset(std::nullopt);
     took[i] = seconds_since(t0);
-  });
+  }, in_use_, more);
   for (std::size_t i = 0; i < envs_.size(); ++i) start_cost_[static_cast<std::size_t>(setups[i].design)] = took[i];
   return obs;
 }
@@ -64,6 +76,7 @@ const rl::VecStepResult& ThreadEnvPool::step(const Eigen::MatrixXd& actions, boo
   if (actions.cols() != static_cast<Eigen::Index>(envs_.size()))
     throw std::invalid_argument("ThreadEnvPool::step: one action column per environment");
   order_by_cost(step_cost_);
+  const std::function<std::size_t()> more = recount();
   pool_.parallel_for_ordered(order_, [&](std::size_t i) {
     const auto t0 = std::chrono::steady_clock::now();
     const auto c = static_cast<Eigen::Index>(i);
@@ -87,7 +100,7 @@ const rl::VecStepResult& ThreadEnvPool::step(const Eigen::MatrixXd& actions, boo
       result_.obs.col(c) = r.obs;
     }
     step_cost_[i] = seconds_since(t0);
-  });
+  }, in_use_, more);
   return result_;
 }
 

@@ -83,6 +83,15 @@ class ThreadEnvPool final : public EnvPool {
   SimulatorPool& simulators() { return *sims_; }
   void set_step_observer(std::size_t i, StepObserver observer, int every) override;
   std::size_t threads() const { return pool_.size(); }
+  // How many of the threads step the environments (1 to threads(); the rest sleep): all of them
+  // unless set. An MPI rank's pool has room for the threads of other ranks on its machine and uses
+  // its own until they lend theirs (cluster/lent_threads.hpp). Results do not change.
+  void set_threads_in_use(std::size_t n);
+  std::size_t threads_in_use() const { return in_use_; }
+  // `lender`, if set, is asked on the calling thread when a start() or step() begins and after each
+  // environment that thread steps; its answer (clamped to 1..threads()) becomes the threads in use,
+  // and a larger one wakes more threads into the call under way. Empty: off.
+  void set_lender(std::function<std::size_t()> lender) { lender_ = std::move(lender); }
   rl::ThreadPool* thread_pool() override { return &pool_; }
   std::vector<double> work_since_start() const override;
 
@@ -90,6 +99,9 @@ class ThreadEnvPool final : public EnvPool {
   std::shared_ptr<SimulatorPool> sims_;
   std::vector<std::unique_ptr<WhiskerEnv>> envs_;
   rl::ThreadPool pool_;
+  std::size_t in_use_;
+  std::function<std::size_t()> lender_;
+  std::function<std::size_t()> recount();  // for ThreadPool::parallel_for_ordered: empty without a lender
   rl::VecStepResult result_;
   std::vector<int> last_in_band_;
   struct Observer {

@@ -19,8 +19,13 @@ ThreadPool::~ThreadPool() {
   for (std::thread& t : workers_) t.join();
 }
 
-// Claims indices one at a time until none are left; called with mutex_ NOT held.
-void ThreadPool::run_chunk() {
+std::size_t ThreadPool::workers_for(std::size_t max_threads) const {
+  return max_threads == 0 ? workers_.size() : std::min(workers_.size(), max_threads - 1);
+}
+
+// Claims indices one at a time until none are left; called with mutex_ NOT held. The caller's
+// thread passes `recount` (workers pass null): after each call it may let more workers in.
+void ThreadPool::run_chunk(const std::function<std::size_t()>* recount) {
   for (;;) {
     std::size_t i;
     {
@@ -35,6 +40,26 @@ void ThreadPool::run_chunk() {
       std::lock_guard lock(mutex_);
       if (!error_) error_ = std::current_exception();
     }
+    if (recount && *recount) {
+      std::size_t allowed = 0;
+      try {
+        allowed = workers_for((*recount)());
+      } catch (...) {  // rethrown by run_job once the calls still running are done
+        std::lock_guard lock(mutex_);
+        if (!error_) error_ = std::current_exception();
+        recount = nullptr;
+        continue;
+      }
+      bool more = false;
+      {
+        std::lock_guard lock(mutex_);
+        if (allowed > job_workers_) {
+          job_workers_ = allowed;
+          more = next_index_ < job_size_;
+        }
+      }
+      if (more) wake_.notify_all();
+    }
   }
 }
 
@@ -43,12 +68,15 @@ void ThreadPool::worker_loop() {
   for (;;) {
     {
       std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      // A worker joins a job it has not joined yet while the job has indices left and room for it.
+      wake_.wait(lock, [&] {
+        return stop_ || (job_ != nullptr && generation_ != seen && busy_ < job_workers_ && next_index_ < job_size_);
+      });
       if (stop_) return;
       seen = generation_;
       ++busy_;
     }
-    run_chunk();
+    run_chunk(nullptr);
     {
       std::lock_guard lock(mutex_);
       --busy_;
@@ -58,32 +86,36 @@ void ThreadPool::worker_loop() {
 }
 
 void ThreadPool::parallel_for(std::size_t n, const std::function<void(std::size_t)>& fn) {
-  run_job(n, nullptr, fn);
+  run_job(n, nullptr, fn, 0, nullptr);
 }
 
 void ThreadPool::parallel_for_ordered(const std::vector<std::size_t>& order,
-                                      const std::function<void(std::size_t)>& fn) {
-  run_job(order.size(), &order, fn);
+                                      const std::function<void(std::size_t)>& fn, std::size_t max_threads,
+                                      const std::function<std::size_t()>& recount) {
+  run_job(order.size(), &order, fn, max_threads, recount ? &recount : nullptr);
 }
 
 void ThreadPool::run_job(std::size_t n, const std::vector<std::size_t>* order,
-                         const std::function<void(std::size_t)>& fn) {
+                         const std::function<void(std::size_t)>& fn, std::size_t max_threads,
+                         const std::function<std::size_t()>* recount) {
   if (n == 0) return;
-  if (workers_.empty() || n == 1) {
+  if (workers_.empty() || n == 1 || (max_threads == 1 && !recount)) {
     for (std::size_t i = 0; i < n; ++i) fn(order ? (*order)[i] : i);
     return;
   }
+  std::size_t workers = 0;
   {
     std::lock_guard lock(mutex_);
     job_ = &fn;
     job_order_ = order;
     job_size_ = n;
     next_index_ = 0;
+    job_workers_ = workers = workers_for(max_threads);
     error_ = nullptr;
     ++generation_;
   }
-  wake_.notify_all();
-  run_chunk();
+  if (workers > 0) wake_.notify_all();
+  run_chunk(recount);
   std::exception_ptr error;
   {
     std::unique_lock lock(mutex_);

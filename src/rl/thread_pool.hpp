@@ -30,12 +30,20 @@ class ThreadPool {
   // fn(order[0]), fn(order[1]), ...: the same calls, claimed in this order. With the costliest
   // indices first the threads finish closer together (longest-processing-time-first scheduling);
   // the results are those of parallel_for, as fn(i) touches only data of index i.
-  void parallel_for_ordered(const std::vector<std::size_t>& order, const std::function<void(std::size_t)>& fn);
+  // max_threads > 0: at most that many threads (the caller included) take part in this call; the
+  // others sleep through it. `recount`, if set, is called on the calling thread after each of its
+  // calls of fn and gives the threads that may take part from then on (0: all); a larger figure
+  // wakes more workers into the call still running (a smaller one sends none away). For a pool
+  // whose spare threads are lent to it now and then (an MPI rank's: cluster/lent_threads.hpp).
+  void parallel_for_ordered(const std::vector<std::size_t>& order, const std::function<void(std::size_t)>& fn,
+                            std::size_t max_threads = 0, const std::function<std::size_t()>& recount = {});
 
  private:
   void worker_loop();
-  void run_chunk();
-  void run_job(std::size_t n, const std::vector<std::size_t>* order, const std::function<void(std::size_t)>& fn);
+  void run_chunk(const std::function<std::size_t()>* recount);
+  void run_job(std::size_t n, const std::vector<std::size_t>* order, const std::function<void(std::size_t)>& fn,
+               std::size_t max_threads, const std::function<std::size_t()>* recount);
+  std::size_t workers_for(std::size_t max_threads) const;  // 0 (all) or max_threads - 1, at most workers_.size()
 
   std::vector<std::thread> workers_;
   std::mutex mutex_;
@@ -45,8 +53,9 @@ class ThreadPool {
   const std::vector<std::size_t>* job_order_ = nullptr;  // null: indices in increasing order
   std::size_t job_size_ = 0;
   std::size_t next_index_ = 0;
-  std::size_t busy_ = 0;        // workers currently inside the job
-  std::size_t generation_ = 0;  // bumped per job so each worker joins it once
+  std::size_t busy_ = 0;         // workers currently inside the job
+  std::size_t job_workers_ = 0;  // how many workers may be inside it
+  std::size_t generation_ = 0;   // bumped per job so each worker joins it once
   std::exception_ptr error_;
   bool stop_ = false;
 };

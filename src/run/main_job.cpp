@@ -29,8 +29,8 @@ int run_main_job(const MainJobOptions& o) {
   const RunSettings s = run_settings(setup, io::TableReader::input_text(o.config));
   // Under an MPI launcher (docs/cluster.md) rank 0 is the run; every other rank only steps its
   // slice of the rollouts and touches no file.
-  const int ranks_here = cluster::ranks_on_this_machine();  // collective: every rank, before they part
-  if (serve_unless_rank_zero(s, static_cast<std::size_t>(o.threads))) return 0;
+  const std::vector<int> here = cluster::ranks_on_this_machine();  // collective: every rank, before they part
+  if (serve_unless_rank_zero(s, static_cast<std::size_t>(o.threads), here)) return 0;
   // SIGTERM / SIGINT stop the run at the next iteration's end with a checkpoint (stop_signals.hpp),
   // and the run folder stays locked from here through the frames and figures.
   const StopSignals signals;
@@ -42,8 +42,9 @@ int run_main_job(const MainJobOptions& o) {
   ro.force = o.force;
   ro.threads = static_cast<std::size_t>(o.threads);
   ro.ranks = cluster::world_size();
+  ro.machine_ranks = here;
   // The other ranks on this machine sleep through the final evaluation: rank 0 takes their threads.
-  if (o.threads > 0) ro.evaluation_threads = static_cast<std::size_t>(o.threads) * static_cast<std::size_t>(ranks_here);
+  if (o.threads > 0) ro.evaluation_threads = static_cast<std::size_t>(o.threads) * here.size();
   ro.progress = !o.quiet;
   ro.stop_after = o.stop_after;
   ro.telemetry_url = o.telemetry ? *o.telemetry : setup.telemetry_url;

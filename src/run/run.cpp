@@ -481,7 +481,7 @@ RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   const std::optional<Checkpoint> ckpt = prepare_run_folder(settings, options, resolved, fp);
   auto sims = std::make_shared<SimulatorPool>(settings.spec, settings.scene, settings.solver);
   const LoopConfig& lc = settings.loop;
-  OuterLoop loop(lc, make_rollout_pool(sims, lc, options.threads, options.ranks));
+  OuterLoop loop(lc, make_rollout_pool(sims, lc, options.threads, options.ranks, options.machine_ranks));
   double wall_before = 0.0;
   if (ckpt) {
     try {

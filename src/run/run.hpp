@@ -30,6 +30,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "codesign/outer_loop.hpp"
 #include "fem/simulator.hpp"
@@ -64,6 +65,9 @@ struct RunOptions {
   // so the main job gives rank 0 their threads on its machine too (main_job.cpp); results do not
   // depend on it.
   std::size_t evaluation_threads = 0;
+  // The world ranks on rank 0's machine (cluster::ranks_on_this_machine; empty: rank 0 alone): in a
+  // whole rollout rank 0 takes up the threads of those done with theirs (cluster/lent_threads.hpp).
+  std::vector<int> machine_ranks;
   bool progress = true;         // progress line on stdout
   // LCM telemetry URL ("" = off): episodes, PPO updates and distribution updates as they
   // happen, decimated simulation steps of one training environment, and the simulation steps of

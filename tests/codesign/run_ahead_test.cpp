@@ -2,6 +2,8 @@
 // against the one-process step-by-step rollout: the same numbers, bit for bit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -22,10 +24,13 @@ using test_loops::tiny_loop;
 // call is a test failure.
 class SharedOutPool final : public EnvPool, public RunAhead {
  public:
-  SharedOutPool(const TinyLoop& s, std::vector<std::vector<std::size_t>> shares)
-      : sims_(std::make_shared<SimulatorPool>(s.spec, s.scene, s.solver)), shares_(std::move(shares)) {
+  // threads > 1 with vary: each share's pool changes how many of its threads step at every start,
+  // step and environment its calling thread steps (1, 2, ... threads, round and round), in the
+  // middle of a step too, as an MPI rank's pool does when threads are lent to it.
+  SharedOutPool(const TinyLoop& s, std::vector<std::vector<std::size_t>> shares, std::size_t threads = 1, bool vary = false)
+      : sims_(std::make_shared<SimulatorPool>(s.spec, s.scene, s.solver)), shares_(std::move(shares)), vary_(vary) {
     for (const auto& places : shares_) {
-      pools_.push_back(std::make_unique<ThreadEnvPool>(sims_, s.loop.task, places.size(), 1));
+      pools_.push_back(std::make_unique<ThreadEnvPool>(sims_, s.loop.task, places.size(), threads));
       n_ += places.size();
     }
     caches_.resize(shares_.size());
@@ -49,11 +54,21 @@ class SharedOutPool final : public EnvPool, public RunAhead {
     for (std::size_t s = 0; s < shares_.size(); ++s) {
       std::vector<EpisodeSetup> mine;
       for (std::size_t p : shares_[s]) mine.push_back(setups[p]);
-      place_share(run_share(*pools_[s], mine, model, caches_[s], shares_[s], n_, normals, gamma), shares_[s], all);
+      ThreadEnvPool& pool = *pools_[s];
+      std::size_t k = 0;
+      if (vary_)
+        pool.set_lender([&] {
+          const std::size_t n = 1 + k++ % pool.threads();
+          used = std::max(used, n);
+          return n;
+        });
+      place_share(run_share(pool, mine, model, caches_[s], shares_[s], n_, normals, gamma), shares_[s], all);
+      pool.set_lender({});
     }
     return all;
   }
   int rollouts = 0;
+  std::size_t used = 1;  // the most threads a share stepped with
 
  private:
   std::shared_ptr<SimulatorPool> sims_;
@@ -61,6 +76,7 @@ class SharedOutPool final : public EnvPool, public RunAhead {
   std::vector<std::unique_ptr<ThreadEnvPool>> pools_;
   std::vector<rl::ActorCritic::InferenceCache> caches_;
   std::size_t n_ = 0;
+  bool vary_ = false;
 };
 
 // Environment i in share i % k, each share's places in falling order: neither contiguous nor sorted.
@@ -70,11 +86,12 @@ std::vector<std::vector<std::size_t>> interleaved(std::size_t n, std::size_t k) 
   return shares;
 }
 
-void expect_same_iterations(const TinyLoop& s, std::size_t shares, int iterations) {
+void expect_same_iterations(const TinyLoop& s, std::size_t shares, int iterations, std::size_t threads = 1,
+                            bool vary = false) {
   auto sims = std::make_shared<SimulatorPool>(s.spec, s.scene, s.solver);
   const auto n = static_cast<std::size_t>(s.loop.codesign.designs_per_update);
   OuterLoop one(s.loop, std::make_unique<ThreadEnvPool>(sims, s.loop.task, n, 1));
-  auto pool = std::make_unique<SharedOutPool>(s, interleaved(n, shares));
+  auto pool = std::make_unique<SharedOutPool>(s, interleaved(n, shares), threads, vary);
   SharedOutPool& split_pool = *pool;
   OuterLoop split(s.loop, std::move(pool));
   for (int k = 0; k < iterations; ++k) {
@@ -99,6 +116,7 @@ void expect_same_iterations(const TinyLoop& s, std::size_t shares, int iteration
     EXPECT_EQ(a.returns, b.returns) << "iteration " << k;
   }
   EXPECT_EQ(split_pool.rollouts, iterations);
+  EXPECT_EQ(split_pool.used, vary ? threads : 1u);
   EXPECT_TRUE(one.model().actor().params() == split.model().actor().params());
   EXPECT_TRUE(one.model().critic().params() == split.model().critic().params());
   EXPECT_TRUE(one.model().log_std() == split.model().log_std());
@@ -126,6 +144,17 @@ TEST(RunAhead, SharesRunAloneGiveTheOneProcessIterationsWithTheWideProducts) {
   s.loop.ppo.critic_hidden = {64, 64};
   s.loop.codesign.baseline = Baseline::SingleDesign;  // one design to mesh; plate phases still differ
   expect_same_iterations(s, 3, 2);
+}
+
+TEST(RunAhead, SharesWhoseThreadsChangeBetweenDecisionsGiveTheOneProcessIterations) {
+  // As an MPI rank that takes up threads lent by ranks done before it (cluster/lent_threads.hpp):
+  // shares of 4 and 3 environments on pools of 3 threads, 1, 2 or 3 of them in use by turns,
+  // changing within a step too.
+  TinyLoop s = tiny_loop();
+  s.loop.codesign.designs_per_update = 7;
+  s.loop.codesign.total_timesteps = 3 * 7 * s.loop.ppo.n_steps;
+  s.loop.ppo.batch_size = 7;
+  expect_same_iterations(s, 2, 3, 3, true);
 }
 
 TEST(RunAhead, RunShareRefusesPlacesAndDrawsThatDoNotFit) {

@@ -2,9 +2,13 @@
 // thread counts; ThreadPool basics.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <mutex>
+#include <set>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "rl/pendulum.hpp"
@@ -189,6 +193,78 @@ TEST(ThreadPool, OrderedRunsEveryListedIndexOnceClaimingInTheGivenOrder) {
                                            }),
                  std::runtime_error);
   }
+}
+
+TEST(ThreadPool, AJobTakesNoMoreThreadsThanItMayUse) {
+  // Each call holds its thread for 20 ms, long enough for every woken worker to join the job: with
+  // the cap broken, more threads than allowed would take calls (all 4 of the pool). Checked: the
+  // threads that ran calls, and the most calls running at once, are at most the cap.
+  ThreadPool pool(4);
+  const std::vector<std::size_t> order{0, 1, 2, 3, 4, 5, 6, 7};
+  for (std::size_t cap : {1u, 2u, 3u, 4u, 0u}) {
+    std::mutex m;
+    std::set<std::thread::id> ids;
+    int running = 0, most = 0;
+    std::vector<std::atomic<int>> hits(order.size());
+    pool.parallel_for_ordered(order, [&](std::size_t i) {
+      {
+        std::lock_guard lock(m);
+        ids.insert(std::this_thread::get_id());
+        most = std::max(most, ++running);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      {
+        std::lock_guard lock(m);
+        --running;
+      }
+      hits[i].fetch_add(1);
+    }, cap);
+    const std::size_t allowed = cap == 0 ? 4 : cap;
+    for (std::size_t i = 0; i < order.size(); ++i) ASSERT_EQ(hits[i].load(), 1) << cap << " " << i;
+    EXPECT_LE(ids.size(), allowed) << "cap " << cap;
+    EXPECT_LE(static_cast<std::size_t>(most), allowed) << "cap " << cap;
+    if (cap == 1) {
+      EXPECT_EQ(*ids.begin(), std::this_thread::get_id());  // on the caller alone
+    }
+  }
+}
+
+TEST(ThreadPool, ARecountLetsMoreThreadsIntoTheCallUnderWay) {
+  // The call starts on the caller alone (max_threads 1); after the caller's first index the recount
+  // allows 2 threads, so a worker joins the call still running (7 more indices of 20 ms each are
+  // left for it: ample time to wake), and never a third. The recount runs on the caller only.
+  ThreadPool pool(4);
+  const std::vector<std::size_t> order{0, 1, 2, 3, 4, 5, 6, 7};
+  std::mutex m;
+  std::set<std::thread::id> ids;
+  std::vector<std::atomic<int>> hits(order.size());
+  const std::thread::id caller = std::this_thread::get_id();
+  int recounts = 0;
+  bool recount_elsewhere = false;
+  pool.parallel_for_ordered(
+      order,
+      [&](std::size_t i) {
+        {
+          std::lock_guard lock(m);
+          ids.insert(std::this_thread::get_id());
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        hits[i].fetch_add(1);
+      },
+      1,
+      [&]() -> std::size_t {
+        if (std::this_thread::get_id() != caller) recount_elsewhere = true;
+        ++recounts;
+        return 2;
+      });
+  for (std::size_t i = 0; i < order.size(); ++i) ASSERT_EQ(hits[i].load(), 1) << i;
+  EXPECT_EQ(ids.size(), 2u);
+  EXPECT_GE(recounts, 1);
+  EXPECT_FALSE(recount_elsewhere);
+  // An exception of the recount comes back to the caller after the calls under way.
+  EXPECT_THROW(pool.parallel_for_ordered(
+                   order, [](std::size_t) {}, 1, []() -> std::size_t { throw std::runtime_error("recount"); }),
+               std::runtime_error);
 }
 
 }  // namespace
