@@ -6,8 +6,8 @@
 // first idles until the last one is done (docs/cluster.md, "Each design meshed once across the
 // ranks": about 1.6-2.3 % of two ranks' collection). Ranks that share a machine share its cores, so
 // a rank that has run its share sends a short note to the other ranks on its machine and waits
-// without holding a core (mpi_wait.hpp); each rank still stepping takes up, from its next decision
-// on, its own threads plus those of every finished rank, up to its pool's size. A rank's pool
+// without holding a core (mpi_wait.hpp); each rank still stepping takes up, from the next environment
+// its calling thread steps, its own threads plus those of every finished rank, up to its pool's size. A rank's pool
 // therefore holds more threads than it uses at first (pool_threads): they sleep until lent. Results
 // do not change: they never depend on how many threads step the environments (env_pool.hpp).
 #include <cstddef>

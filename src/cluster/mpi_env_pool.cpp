@@ -27,7 +27,7 @@ namespace {
 // meshes of the designs it gets without holding them, as far as rank 0 has them; after its answer
 // each rank sends back the meshes it made itself meanwhile. Both messages always go (an empty one
 // holds a count of 0). During a whole rollout a rank that has run its share sends each other rank on
-// its machine a note (kTagDone, one int), which they take up between decisions (LendingRound).
+// its machine a note (kTagDone, one int), which they take up between environments (LendingRound).
 enum Command : int { kStop = 0, kStart = 1, kStep = 2, kTimes = 3, kPing = 4, kCosts = 5, kRollout = 6 };
 constexpr int kTagCommand = 101, kTagPayload = 102, kTagReply = 103, kTagReasons = 104, kTagMeshes = 105, kTagDone = 106;
 
@@ -113,6 +113,14 @@ void send_without_spinning(const void* data, std::size_t count, MPI_Datatype typ
   wait_without_spinning(request, MPI_STATUS_IGNORE, what);
 }
 
+// A rank's pool between whole rollouts (and in step-by-step ones): on the rank's own threads, which
+// the pool must hold.
+void use_own_threads(core::ThreadEnvPool& pool, const Lending& lending, const char* who) {
+  if (lending.own_threads > pool.threads())
+    throw std::invalid_argument(std::string(who) + ": the rank's pool has fewer threads than its own");
+  pool.set_threads_in_use(threads_in_use(lending.own_threads, 0, pool.threads()));
+}
+
 // One whole rollout's lending on one rank (lent_threads.hpp). Made before the rank's share starts:
 // the pool steps on the rank's own threads and asks poll() between environments (its lender), so
 // each other rank of the machine whose note has come lends its threads from the next environment
@@ -123,7 +131,7 @@ class LendingRound {
  public:
   LendingRound(core::ThreadEnvPool& pool, const Lending& lending)
       : pool_(pool), lending_(lending), heard_(lending.peers.size(), 0) {
-    pool_.set_threads_in_use(own());
+    use_own_threads(pool_, lending_, "LendingRound");
     if (!heard_.empty()) pool_.set_lender([this] { return poll(); });
   }
   ~LendingRound() { pool_.set_lender({}); }
@@ -143,14 +151,14 @@ class LendingRound {
     for (std::size_t k = 0; k < heard_.size(); ++k)
       if (!heard_[k]) receive(k);
     for (MPI_Request& r : notes_) wait_without_spinning(r, MPI_STATUS_IGNORE, "send a note");
-    pool_.set_threads_in_use(own());
+    use_own_threads(pool_, lending_, "LendingRound");
   }
 
   // Wall seconds the share was stepped on more threads than the rank's own.
   double lent_seconds() const { return lent_s_; }
 
  private:
-  std::size_t own() const { return lending_.own_threads == 0 ? pool_.threads() : lending_.own_threads; }
+  std::size_t own() const { return threads_in_use(lending_.own_threads, 0, pool_.threads()); }
 
   // The threads the pool may use now: the rank's own and those of the ranks whose notes have come.
   std::size_t poll() {
@@ -214,9 +222,7 @@ MpiEnvPool::MpiEnvPool(std::unique_ptr<core::ThreadEnvPool> local, std::size_t n
   if (!local_ || local_->size() != slices_[0].count)
     throw std::invalid_argument("MpiEnvPool: rank 0's pool must hold its slice of " + std::to_string(slices_[0].count) +
                                 " environments");
-  if (lending_.own_threads > local_->threads())
-    throw std::invalid_argument("MpiEnvPool: rank 0's pool has fewer threads than its own");
-  if (lending_.own_threads > 0) local_->set_threads_in_use(lending_.own_threads);
+  use_own_threads(*local_, lending_, "MpiEnvPool");
   if (local_->threads() < 2) update_pool_ = std::make_unique<rl::ThreadPool>(2);
   result_ = rl::VecStepResult(spec().observation.dim(), n_envs);
   placed_ = rl::VecStepResult(spec().observation.dim(), n_envs);
@@ -501,9 +507,7 @@ double time_exchanges(int ranks, std::size_t out_doubles, std::size_t in_doubles
 
 void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model, const Lending& lending) {
   const std::size_t n = local.size(), a = local.spec().action.dim();
-  if (lending.own_threads > local.threads())
-    throw std::invalid_argument("serve_env_pool: the rank's pool has fewer threads than its own");
-  if (lending.own_threads > 0) local.set_threads_in_use(lending.own_threads);
+  use_own_threads(local, lending, "serve_env_pool");
   double lent_s = 0.0;  // wall seconds of whole rollouts stepped on lent threads
   rl::ActorCritic::InferenceCache cache;
   for (;;) {
