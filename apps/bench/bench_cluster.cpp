@@ -180,7 +180,8 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
                              : "go step by step (a recurrent policy or observation statistics): the ranks meet at every "
                                "decision (the 'every decision' columns)");
   std::printf("  ranks | L meeting every decision | of it the start's meeting (settles) | L meeting at the "
-              "iteration's end | run, update on rank 0: every decision, iteration's end (c x L / L_1)\n");
+              "iteration's end | floor of any order of a rank's jobs | run, update on rank 0: every decision, "
+              "iteration's end (c x L / L_1)\n");
   for (int r : {1, 2, 4, 8, 16, 32, 64}) {
     if (static_cast<std::size_t>(r) > psi) break;
     const cluster::MeetingLoad m =
@@ -188,15 +189,18 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
     cluster::ScalingCosts every = c, end = c;
     every.collect_factor = m.lockstep / own.lockstep;
     end.collect_factor = m.run_ahead / own.lockstep;
-    std::printf("  %5d | %32.3f | %35.3f | %32.3f | %8.1f min, %8.1f min\n", r, m.lockstep, m.start, m.run_ahead,
+    std::printf("  %5d | %24.3f | %35.3f | %32.3f | %34.3f | %8.1f min, %8.1f min\n", r, m.lockstep, m.start,
+                m.run_ahead, m.floor,
                 iterations_total * cluster::iteration_seconds(every, r) / 60.0,
                 iterations_total * cluster::iteration_seconds(end, r) / 60.0);
     if (r == 16) {
       const double run16 = iterations_total * cluster::iteration_seconds(whole_rollouts ? end : every, r) / 60.0;
+      cluster::ScalingCosts floor = c;
+      floor.collect_factor = m.floor / own.lockstep;
       std::printf("  goal (issue 20 §3), the meeting counted: the run in <= 5 min on 16 ranks x %d thread(s): %.1f min "
-                  "(%s): %s\n",
+                  "(%s): %s; with the floor of any order of a rank's jobs %.1f min\n",
                   c.threads_per_rank, run16, whole_rollouts ? "whole rollouts on the ranks" : "step by step",
-                  run16 <= 5.0 ? "met" : "NOT met");
+                  run16 <= 5.0 ? "met" : "NOT met", iterations_total * cluster::iteration_seconds(floor, r) / 60.0);
     }
   }
   // Not built: the threads of each rank running their environments' whole rollouts too, so nothing

@@ -168,7 +168,7 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
   std::vector<double> load(static_cast<std::size_t>(threads));
   std::vector<double> rank_sum(slices.size());  // per rank: its time summed over the points
   std::vector<double> slowest(points);          // per point: the slowest rank's time
-  double sum_lockstep = 0.0, sum_run_ahead = 0.0, sum_start = 0.0;
+  double sum_lockstep = 0.0, sum_run_ahead = 0.0, sum_start = 0.0, sum_floor = 0.0;
   for (int d = 0; d < draws; ++d) {
     for (std::size_t i = 0; i < environments; ++i) {
       const std::size_t s = pick(samples.size());
@@ -179,7 +179,14 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
     const std::vector<std::size_t> order = assign_by_cost(predicted, slices, {});
     std::fill(rank_sum.begin(), rank_sum.end(), 0.0);
     std::fill(slowest.begin(), slowest.end(), 0.0);
+    double floor = 0.0;
     for (std::size_t r = 0; r < slices.size(); ++r) {
+      double longest = 0.0, all = 0.0;
+      for (std::size_t j = slices[r].first; j < slices[r].first + slices[r].count; ++j) {
+        longest = std::max(longest, total[drawn[order[j]]]);
+        all += total[drawn[order[j]]];
+      }
+      floor = std::max(floor, std::max(longest, all / static_cast<double>(threads)));
       // This rank's environments at each point, in the order of their previous costs (at the
       // start: of the predicted totals).
       std::vector<double> key, now(slices[r].count);
@@ -196,10 +203,11 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
     sum_lockstep += lockstep;
     sum_start += slowest.front();
     sum_run_ahead += *std::max_element(rank_sum.begin(), rank_sum.end());
+    sum_floor += floor;
   }
   const double norm = static_cast<double>(draws) * rounds * mean;
   if (norm <= 0.0) return {};
-  return {sum_lockstep / norm, sum_run_ahead / norm, sum_start / norm};
+  return {sum_lockstep / norm, sum_run_ahead / norm, sum_start / norm, sum_floor / norm};
 }
 
 }  // namespace codesign::cluster

@@ -73,10 +73,14 @@ struct DecisionCosts {
 // empty, a negative or non-finite cost, draws < 1, or what env_slice and collection_rounds refuse.
 // start: E[the slowest rank's time at point 0] in the same normalisation, the share of lockstep
 // spent at the start's meeting (the settles), which depends on the setups alone.
+// floor: E[max over ranks of max(its costliest environment's iteration total, its environments'
+// totals summed / threads)], the same normalisation: what no order of a rank's jobs on its threads
+// can beat, since an environment's decisions follow one another (floor <= run_ahead for any costs).
 struct MeetingLoad {
   double lockstep = 1.0;
   double run_ahead = 1.0;
   double start = 0.0;
+  double floor = 1.0;
 };
 MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::size_t environments, int ranks,
                                 int threads, int draws, std::uint64_t seed);

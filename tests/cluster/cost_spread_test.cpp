@@ -146,6 +146,41 @@ TEST(MeetingLoad, MeetingOnlyAtTheEndIsNeverSlower) {
     }
 }
 
+// The floor of any order of a rank's jobs. Every job 1 s, a start and 50 decisions (totals 51):
+// 40 environments on 16 ranks of 2 threads, the busiest holding 3: max(51, 153 / 2) = 76.5 over
+// the normaliser 2 rounds x 51: 0.75, where meeting at each decision takes 1; on 2 ranks of one
+// thread both are 1. Two designs whose totals are 1 and 3 on one rank of 2 threads holding both
+// environments: max(3, 4 / 2) = 3 when the draws differ (probability 1/2), 3 (both 3) or 1 (both 1)
+// otherwise: E = 3/2 + 3/4 + 1/4 = 2.5 over 1 round x mean 2: 1.25 (Monte Carlo: a draw lies in
+// [1, 3], so 4 standard errors over 40 000 draws are 0.02 s, 0.01 in the factor).
+TEST(MeetingLoad, TheFloorMatchesTheCount) {
+  const std::vector<double> p(51, 1.0);
+  const std::vector<DecisionCosts> same = {{3, p}, {7, p}};
+  EXPECT_NEAR(meeting_load_factor(same, 40, 16, 2, 20, 1).floor, 0.75, 1e-12);
+  EXPECT_NEAR(meeting_load_factor(same, 40, 16, 2, 20, 1).run_ahead, 1.0, 1e-12);
+  EXPECT_NEAR(meeting_load_factor(same, 40, 2, 1, 20, 1).floor, 1.0, 1e-12);
+  const std::vector<DecisionCosts> two = {{0, {0.5, 0.5}}, {1, {1.0, 2.0}}};
+  EXPECT_NEAR(meeting_load_factor(two, 2, 1, 2, 40000, 20261207).floor, 1.25, 0.01);
+}
+
+// No order of a rank's jobs beats the floor, the meeting at each decision within a rank included:
+// floor <= run_ahead on random profiles of 10 designs, 40 environments, 1 to 16 ranks.
+TEST(MeetingLoad, TheFloorIsNeverAboveMeetingAtTheEnd) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> cost(0.0, 1.0);
+  std::vector<DecisionCosts> samples;
+  for (int k = 0; k < 60; ++k) {
+    DecisionCosts d{k % 10, {}};
+    for (int p = 0; p < 11; ++p) d.seconds.push_back(cost(rng));
+    samples.push_back(d);
+  }
+  for (int ranks : {1, 2, 4, 16})
+    for (int threads : {1, 2, 3}) {
+      const MeetingLoad m = meeting_load_factor(samples, 40, ranks, threads, 200, 5);
+      EXPECT_LE(m.floor, m.run_ahead + 1e-12) << ranks << " ranks, " << threads << " threads";
+    }
+}
+
 TEST(MeetingLoad, BadInputIsRefused) {
   const std::vector<DecisionCosts> ok = {{0, {1.0, 1.0}}};
   EXPECT_THROW(meeting_load_factor({}, 4, 2, 1, 10, 1), std::invalid_argument);
