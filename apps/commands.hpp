@@ -30,6 +30,7 @@ void add_bench_fem_command(CLI::App& bench, Runner& run);  // bench/bench_fem.cp
 void add_bench_ppo_command(CLI::App& bench, Runner& run);  // bench/bench_ppo.cpp
 void add_bench_codesign_command(CLI::App& bench, Runner& run);  // bench/bench_codesign.cpp
 void add_bench_cluster_command(CLI::App& bench, Runner& run);   // bench/bench_cluster.cpp
+void add_bench_waves_command(CLI::App& bench, Runner& run);     // bench/bench_waves.cpp
 void add_bench_telemetry_command(CLI::App& bench, Runner& run);  // bench/bench_telemetry.cpp
 void add_bench_render_command(CLI::App& bench, Runner& run);  // bench/bench_render.cpp
 

@@ -90,6 +90,7 @@ int run_command(int argc, char** argv) {
   app::add_bench_fem_command(*bench, run);
   app::add_bench_codesign_command(*bench, run);
   app::add_bench_cluster_command(*bench, run);
+  app::add_bench_waves_command(*bench, run);
   app::add_bench_ppo_command(*bench, run);
   app::add_bench_telemetry_command(*bench, run);
   app::add_bench_render_command(*bench, run);

@@ -12,6 +12,7 @@
 
 #include "cluster/env_assignment.hpp"
 #include "cluster/scaling_model.hpp"
+#include "codesign/rollout_waves.hpp"
 
 namespace codesign::cluster {
 
@@ -138,10 +139,54 @@ BusiestLoad busiest_load_factor(const std::vector<CostSample>& samples, std::siz
   return {sum_contiguous / norm, sum_by_cost / norm};
 }
 
+namespace {
+
+// One rank's time over an iteration run in waves (meeting_load_factor's `waves`): its
+// environments' profiles costs[e][k] (k = 0 the start), on `threads` threads.
+double waves_time(const std::vector<const std::vector<double>*>& costs, std::size_t threads, double pass_s,
+                  double start_guess, double step_guess, std::vector<double>& load) {
+  const std::size_t n = costs.size();
+  if (n == 0) return 0.0;
+  const std::size_t points = costs.front()->size();
+  std::vector<core::WaveEnv> envs(n);
+  for (core::WaveEnv& e : envs) {
+    e.jobs_left = static_cast<int>(points);
+    e.started = false;
+    e.start_cost = start_guess;
+    e.step_cost = step_guess;
+  }
+  std::vector<double> now, key;
+  double t = 0.0;
+  for (;;) {
+    const std::vector<std::size_t> wave = core::next_wave(envs, threads, pass_s);
+    if (wave.empty()) break;
+    now.clear();
+    key.clear();
+    bool steps = false;
+    for (std::size_t e : wave) {
+      const std::size_t k = points - static_cast<std::size_t>(envs[e].jobs_left);
+      now.push_back((*costs[e])[k]);
+      key.push_back(envs[e].started ? envs[e].step_cost : envs[e].start_cost);
+      steps = steps || envs[e].started;
+    }
+    t += list_makespan(now, by_decreasing(key), load) + (steps ? pass_s : 0.0);
+    for (std::size_t j = 0; j < wave.size(); ++j) {
+      core::WaveEnv& e = envs[wave[j]];
+      if (e.started) e.step_cost = now[j];
+      e.started = true;
+      --e.jobs_left;
+    }
+  }
+  return t - static_cast<double>(points - 1) * pass_s;
+}
+
+}  // namespace
+
 MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::size_t environments, int ranks,
-                                int threads, int draws, std::uint64_t seed) {
+                                int threads, int draws, std::uint64_t seed, double pass_s) {
   if (samples.empty()) throw std::invalid_argument("meeting_load_factor: no cost samples");
   if (draws < 1) throw std::invalid_argument("meeting_load_factor: draws < 1");
+  if (!std::isfinite(pass_s) || pass_s < 0.0) throw std::invalid_argument("meeting_load_factor: pass_s negative or not finite");
   const std::size_t points = samples.front().seconds.size();
   if (points == 0) throw std::invalid_argument("meeting_load_factor: an empty profile");
   std::vector<double> total(samples.size(), 0.0);
@@ -160,6 +205,15 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
   const double mean = sum / static_cast<double>(samples.size());
   const double rounds = static_cast<double>(collection_rounds(environments, ranks, threads));
   const std::vector<EnvSlice> slices = env_slices(environments, ranks);
+  double start_guess = 0.0, step_guess = 0.0;  // the samples' mean start and step: waves' first guesses
+  for (const DecisionCosts& s : samples) {
+    start_guess += s.seconds.front();
+    for (std::size_t k = 1; k < points; ++k) step_guess += s.seconds[k];
+  }
+  start_guess /= static_cast<double>(samples.size());
+  if (points > 1) step_guess /= static_cast<double>(samples.size() * (points - 1));
+  std::vector<double> rank_waves(slices.size());
+  std::vector<const std::vector<double>*> share;
 
   std::mt19937_64 rng(seed);
   auto pick = [&rng](std::size_t n) { return static_cast<std::size_t>(rng() % n); };
@@ -168,7 +222,7 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
   std::vector<double> load(static_cast<std::size_t>(threads));
   std::vector<double> rank_sum(slices.size());  // per rank: its time summed over the points
   std::vector<double> slowest(points);          // per point: the slowest rank's time
-  double sum_lockstep = 0.0, sum_run_ahead = 0.0, sum_start = 0.0;
+  double sum_lockstep = 0.0, sum_run_ahead = 0.0, sum_start = 0.0, sum_waves = 0.0;
   for (int d = 0; d < draws; ++d) {
     for (std::size_t i = 0; i < environments; ++i) {
       const std::size_t s = pick(samples.size());
@@ -191,15 +245,20 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
         slowest[k] = std::max(slowest[k], t);
         key = now;
       }
+      share.clear();
+      for (std::size_t j = slices[r].first; j < slices[r].first + slices[r].count; ++j)
+        share.push_back(&samples[drawn[order[j]]].seconds);
+      rank_waves[r] = waves_time(share, static_cast<std::size_t>(threads), pass_s, start_guess, step_guess, load);
     }
     const double lockstep = std::accumulate(slowest.begin(), slowest.end(), 0.0);
     sum_lockstep += lockstep;
     sum_start += slowest.front();
     sum_run_ahead += *std::max_element(rank_sum.begin(), rank_sum.end());
+    sum_waves += *std::max_element(rank_waves.begin(), rank_waves.end());
   }
   const double norm = static_cast<double>(draws) * rounds * mean;
   if (norm <= 0.0) return {};
-  return {sum_lockstep / norm, sum_run_ahead / norm, sum_start / norm};
+  return {sum_lockstep / norm, sum_run_ahead / norm, sum_start / norm, sum_waves / norm};
 }
 
 }  // namespace codesign::cluster

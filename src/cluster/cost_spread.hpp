@@ -73,12 +73,19 @@ struct DecisionCosts {
 // empty, a negative or non-finite cost, draws < 1, or what env_slice and collection_rounds refuse.
 // start: E[the slowest rank's time at point 0] in the same normalisation, the share of lockstep
 // spent at the start's meeting (the settles), which depends on the setups alone.
+// waves: as run_ahead, each rank running its share in waves (codesign/rollout_waves.hpp, as
+// run_share does): a wave's time is the makespan of its environments' next costs over the threads,
+// taken in order of their predicted costs (the previous job's, the samples' mean before any), plus
+// pass_s when one of them steps; a rank's time is the sum over its waves less one pass_s per
+// decision (the model counts one forward pass per decision in its policy time). With pass_s = 0
+// and threads dividing every rank's share, waves <= run_ahead up to the choice's prediction errors.
 struct MeetingLoad {
   double lockstep = 1.0;
   double run_ahead = 1.0;
   double start = 0.0;
+  double waves = 1.0;
 };
 MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::size_t environments, int ranks,
-                                int threads, int draws, std::uint64_t seed);
+                                int threads, int draws, std::uint64_t seed, double pass_s = 0.0);
 
 }  // namespace codesign::cluster

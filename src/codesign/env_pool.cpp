@@ -50,6 +50,43 @@ void ThreadEnvPool::set_step_observer(std::size_t i, StepObserver observer, int 
   o.decisions = 0;
 }
 
+Eigen::VectorXd ThreadEnvPool::start_one(std::size_t i, const EpisodeSetup& setup) {
+  envs_[i]->set_episode(setup);
+  return envs_[i]->reset(std::nullopt);
+}
+
+void ThreadEnvPool::step_one(std::size_t i, const Eigen::MatrixXd& actions, bool restart) {
+  const auto c = static_cast<Eigen::Index>(i);
+  WhiskerEnv& env = *envs_[i];
+  rl::StepResult r = env.step(actions.col(c));
+  Observer& o = observers_[i];
+  if (o.every > 0 && ++o.decisions % o.every == 0) {
+    const double a = std::isfinite(actions(0, c)) ? std::clamp(actions(0, c), -1.0, 1.0) : 0.0;
+    o.fn(env.episode(), trace_row(env.simulator().sensors(), env.decisions_taken() - 1, a));
+  }
+  result_.rewards(c) = r.reward;
+  result_.terminated[i] = r.terminated ? 1 : 0;
+  result_.truncated[i] = r.truncated ? 1 : 0;
+  result_.reasons[i] = r.reason;
+  if (r.done()) {
+    last_in_band_[i] = env.decisions_in_band();
+    result_.obs.col(c) = restart ? env.reset(std::nullopt) : r.obs;
+    result_.terminal_obs[i] = std::move(r.obs);
+  } else {
+    result_.terminal_obs[i].reset();
+    result_.obs.col(c) = r.obs;
+  }
+}
+
+double ThreadEnvPool::predicted_start(int design) const {
+  if (design >= 0 && design < fem::kDesignCount && std::isfinite(start_cost_[static_cast<std::size_t>(design)]))
+    return start_cost_[static_cast<std::size_t>(design)];
+  double most = 0.0;
+  for (double c : start_cost_)
+    if (std::isfinite(c)) most = std::max(most, c);
+  return most;
+}
+
 Eigen::MatrixXd ThreadEnvPool::start(const std::vector<EpisodeSetup>& setups) {
   if (setups.size() != envs_.size()) throw std::invalid_argument("ThreadEnvPool::start: one setup per environment");
   Eigen::MatrixXd obs(spec().observation.dim(), static_cast<Eigen::Index>(envs_.size()));
@@ -64,8 +101,7 @@ Eigen::MatrixXd ThreadEnvPool::start(const std::vector<EpisodeSetup>& setups) {
   const std::function<std::size_t()> more = recount();
   pool_.parallel_for_ordered(order_, [&](std::size_t i) {
     const auto t0 = std::chrono::steady_clock::now();
-    envs_[i]->set_episode(setups[i]);
-    obs.col(static_cast<Eigen::Index>(i)) = envs_[i]->reset(std::nullopt);
+    obs.col(static_cast<Eigen::Index>(i)) = start_one(i, setups[i]);
     took[i] = seconds_since(t0);
   }, in_use_, more);
   for (std::size_t i = 0; i < envs_.size(); ++i) start_cost_[static_cast<std::size_t>(setups[i].design)] = took[i];
@@ -79,28 +115,50 @@ const rl::VecStepResult& ThreadEnvPool::step(const Eigen::MatrixXd& actions, boo
   const std::function<std::size_t()> more = recount();
   pool_.parallel_for_ordered(order_, [&](std::size_t i) {
     const auto t0 = std::chrono::steady_clock::now();
-    const auto c = static_cast<Eigen::Index>(i);
-    WhiskerEnv& env = *envs_[i];
-    rl::StepResult r = env.step(actions.col(c));
-    Observer& o = observers_[i];
-    if (o.every > 0 && ++o.decisions % o.every == 0) {
-      const double a = std::isfinite(actions(0, c)) ? std::clamp(actions(0, c), -1.0, 1.0) : 0.0;
-      o.fn(env.episode(), trace_row(env.simulator().sensors(), env.decisions_taken() - 1, a));
-    }
-    result_.rewards(c) = r.reward;
-    result_.terminated[i] = r.terminated ? 1 : 0;
-    result_.truncated[i] = r.truncated ? 1 : 0;
-    result_.reasons[i] = r.reason;
-    if (r.done()) {
-      last_in_band_[i] = env.decisions_in_band();
-      result_.obs.col(c) = restart ? env.reset(std::nullopt) : r.obs;
-      result_.terminal_obs[i] = std::move(r.obs);
-    } else {
-      result_.terminal_obs[i].reset();
-      result_.obs.col(c) = r.obs;
-    }
+    step_one(i, actions, restart);
     step_cost_[i] = seconds_since(t0);
   }, in_use_, more);
+  return result_;
+}
+
+const rl::VecStepResult& ThreadEnvPool::advance(const std::vector<Job>& jobs, const Eigen::MatrixXd& actions) {
+  if (actions.cols() != static_cast<Eigen::Index>(envs_.size()) ||
+      actions.rows() != static_cast<Eigen::Index>(spec().action.dim()))
+    throw std::invalid_argument("ThreadEnvPool::advance: actions must be act_dim x environments");
+  std::vector<char> named(envs_.size(), 0);
+  std::vector<double> predicted(jobs.size());
+  for (std::size_t j = 0; j < jobs.size(); ++j) {
+    const Job& job = jobs[j];
+    if (job.env >= envs_.size() || named[job.env])
+      throw std::invalid_argument("ThreadEnvPool::advance: an environment out of range or named twice");
+    named[job.env] = 1;
+    const int d = job.setup ? job.setup->design : -1;
+    predicted[j] = !job.setup ? step_cost_[job.env]
+                   : d >= 0 && d < fem::kDesignCount ? start_cost_[static_cast<std::size_t>(d)] : 0.0;
+  }
+  std::vector<std::size_t> order(jobs.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return predicted[a] > predicted[b]; });
+  for (const Job& job : jobs)
+    if (job.setup) work_mark_[job.env] = envs_[job.env]->settle_seconds() + envs_[job.env]->step_seconds();
+  std::vector<double> took(jobs.size());
+  const std::function<std::size_t()> more = recount();
+  pool_.parallel_for_ordered(order, [&](std::size_t j) {
+    const Job& job = jobs[j];
+    const auto t0 = std::chrono::steady_clock::now();
+    if (job.setup) {
+      result_.obs.col(static_cast<Eigen::Index>(job.env)) = start_one(job.env, *job.setup);
+    } else {
+      step_one(job.env, actions, job.restart);
+    }
+    took[j] = seconds_since(t0);
+  }, in_use_, more);
+  for (std::size_t j = 0; j < jobs.size(); ++j) {
+    if (jobs[j].setup)
+      start_cost_[static_cast<std::size_t>(jobs[j].setup->design)] = took[j];
+    else
+      step_cost_[jobs[j].env] = took[j];
+  }
   return result_;
 }
 

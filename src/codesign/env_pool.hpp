@@ -95,6 +95,25 @@ class ThreadEnvPool final : public EnvPool {
   rl::ThreadPool* thread_pool() override { return &pool_; }
   std::vector<double> work_since_start() const override;
 
+  // One wave of a whole rollout run in waves (run_ahead.hpp, rollout_waves.hpp): each job's
+  // environment either starts its episode with *setup (as start() does for all) or, without a
+  // setup, takes the action in its column of `actions` (act_dim x size(), other columns unread) as
+  // step() does, restarting a finished episode where `restart`. Only the jobs' columns and entries
+  // of the result change: for a start its obs column; for a step all of them. The jobs run on the
+  // threads in use, the costliest predicted first. std::invalid_argument for an environment out of
+  // range or named twice, or actions of the wrong shape.
+  struct Job {
+    std::size_t env = 0;
+    const EpisodeSetup* setup = nullptr;  // set: start the episode
+    bool restart = true;
+  };
+  const rl::VecStepResult& advance(const std::vector<Job>& jobs, const Eigen::MatrixXd& actions);
+  // What the pool predicts for environment i's next step, and for a start of `design` (the last
+  // such step's or start's wall seconds here; 0 before any, and for a design never started here
+  // the largest start seen so far).
+  double predicted_step(std::size_t i) const { return step_cost_.at(i); }
+  double predicted_start(int design) const;
+
  private:
   std::shared_ptr<SimulatorPool> sims_;
   std::vector<std::unique_ptr<WhiskerEnv>> envs_;
@@ -118,6 +137,10 @@ class ThreadEnvPool final : public EnvPool {
   std::vector<double> work_mark_;          // per environment: settle + step seconds at the last start()
   std::vector<std::size_t> order_;
   void order_by_cost(const std::vector<double>& cost);
+  // One environment's start (its first observation) and step (into result_ and last_in_band_),
+  // on the thread that runs them.
+  Eigen::VectorXd start_one(std::size_t i, const EpisodeSetup& setup);
+  void step_one(std::size_t i, const Eigen::MatrixXd& actions, bool restart);
 };
 
 }  // namespace codesign::core

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "base/seconds_since.hpp"
+#include "codesign/rollout_waves.hpp"
 #include "rl/rollout.hpp"
 
 namespace codesign::core {
@@ -26,9 +27,10 @@ ShareRollout empty_share(int n_steps, std::size_t n, std::size_t obs_dim, std::s
   return s;
 }
 
-ShareRollout run_share(EnvPool& pool, const std::vector<EpisodeSetup>& setups, const rl::ActorCritic& model,
+ShareRollout run_share(ThreadEnvPool& pool, const std::vector<EpisodeSetup>& setups, const rl::ActorCritic& model,
                        rl::ActorCritic::InferenceCache& cache, const std::vector<std::size_t>& places,
-                       std::size_t width, const std::vector<Eigen::MatrixXd>& normals, double gamma) {
+                       std::size_t width, const std::vector<Eigen::MatrixXd>& normals, double gamma,
+                       ShareSchedule schedule) {
   const std::size_t n = pool.size(), d = pool.spec().observation.dim(), a = pool.spec().action.dim();
   if (setups.size() != n || places.size() != n)
     throw std::invalid_argument("run_share: one setup and one place per environment of the pool");
@@ -41,24 +43,69 @@ ShareRollout run_share(EnvPool& pool, const std::vector<EpisodeSetup>& setups, c
   ShareRollout out = empty_share(n_steps, n, d, a);
   cache.weights_changed();
   const auto col = [](std::size_t j) { return static_cast<Eigen::Index>(j); };
-  // The ψ-wide batch the one-process rollout would compute, this share's columns at their places.
+  // The ψ-wide batch and draws the one-process rollout would use at each environment's decision,
+  // this wave's columns at their places, zeros elsewhere.
   Eigen::MatrixXf batch = Eigen::MatrixXf::Zero(static_cast<Eigen::Index>(d), static_cast<Eigen::Index>(width));
-  Eigen::MatrixXd obs = pool.start(setups);
-  for (int k = 0; k < n_steps; ++k) {
-    RolloutStepColumns& rec = out.steps[static_cast<std::size_t>(k)];
-    rec.obs = obs.cast<float>();
-    for (std::size_t j = 0; j < n; ++j) batch.col(col(places[j])) = rec.obs.col(col(j));
-    auto t0 = std::chrono::steady_clock::now();
-    const rl::ActorCritic::ActResult act = model.act_with(batch, normals[static_cast<std::size_t>(k)], cache);
-    out.policy_s += seconds_since(t0);
+  Eigen::MatrixXd draws = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(width));
+  Eigen::MatrixXd obs(static_cast<Eigen::Index>(d), col(n));  // each environment's latest observation
+  Eigen::MatrixXd actions = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(a), col(n));
+  std::vector<WaveEnv> envs(n);
+  for (WaveEnv& e : envs) {
+    e.jobs_left = n_steps + 1;  // the start, then every decision
+    e.started = false;
+  }
+  std::vector<int> next(n, 0);  // the decision each started environment takes next
+  double pass_s = 0.0;          // the last forward pass's wall seconds
+  std::vector<ThreadEnvPool::Job> jobs;
+  std::vector<std::size_t> wave;
+  for (;;) {
+    wave.clear();
     for (std::size_t j = 0; j < n; ++j) {
-      rec.actions.col(col(j)) = act.actions.col(col(places[j]));
-      rec.values(col(j)) = act.values(col(places[j]));
-      rec.log_probs(col(j)) = act.log_probs(col(places[j]));
+      if (envs[j].jobs_left <= 0) continue;
+      envs[j].start_cost = pool.predicted_start(setups[j].design);
+      envs[j].step_cost = pool.predicted_step(j);
+      wave.push_back(j);
     }
-    const bool last = k + 1 == n_steps;
-    const rl::VecStepResult& r = pool.step(rl::clip_actions(rec.actions.cast<double>(), pool.spec().action), !last);
-    for (std::size_t j = 0; j < n; ++j) {
+    if (wave.empty()) break;
+    if (schedule == ShareSchedule::Waves) wave = next_wave(envs, pool.threads_in_use(), pass_s);
+    bool stepping = false;
+    for (std::size_t j : wave) {
+      if (!envs[j].started) continue;
+      batch.col(col(places[j])) = obs.col(col(j)).cast<float>();
+      draws.col(col(places[j])) = normals[static_cast<std::size_t>(next[j])].col(col(places[j]));
+      stepping = true;
+    }
+    if (stepping) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const rl::ActorCritic::ActResult act = model.act_with(batch, draws, cache);
+      pass_s = seconds_since(t0);
+      out.policy_s += pass_s;
+      ++out.passes;
+      for (std::size_t j : wave) {
+        if (!envs[j].started) continue;
+        RolloutStepColumns& rec = out.steps[static_cast<std::size_t>(next[j])];
+        rec.obs.col(col(j)) = batch.col(col(places[j]));
+        rec.actions.col(col(j)) = act.actions.col(col(places[j]));
+        rec.values(col(j)) = act.values(col(places[j]));
+        rec.log_probs(col(j)) = act.log_probs(col(places[j]));
+        actions.col(col(j)) = rl::clip_actions(rec.actions.col(col(j)).cast<double>(), pool.spec().action);
+        batch.col(col(places[j])).setZero();
+        draws.col(col(places[j])).setZero();
+      }
+    }
+    jobs.clear();
+    for (std::size_t j : wave)
+      jobs.push_back({j, envs[j].started ? nullptr : &setups[j], next[j] + 1 < n_steps});
+    const rl::VecStepResult& r = pool.advance(jobs, actions);
+    for (std::size_t j : wave) {
+      --envs[j].jobs_left;
+      obs.col(col(j)) = r.obs.col(col(j));
+      if (!envs[j].started) {
+        envs[j].started = true;
+        continue;
+      }
+      // The last decision does not restart a finished episode: obs is then its terminal observation.
+      RolloutStepColumns& rec = out.steps[static_cast<std::size_t>(next[j]++)];
       double reward = r.rewards(col(j));
       rec.raw_rewards(col(j)) = reward;
       rec.done[j] = r.done(j) ? 1 : 0;
@@ -67,14 +114,13 @@ ShareRollout run_share(EnvPool& pool, const std::vector<EpisodeSetup>& setups, c
         rec.reasons[j] = r.reasons[j];
       }
       if (r.done(j) && r.truncated[j] && !r.terminated[j] && r.terminal_obs[j]) {
-        t0 = std::chrono::steady_clock::now();
+        const auto t0 = std::chrono::steady_clock::now();
         const Eigen::VectorXf terminal = r.terminal_obs[j]->cast<float>();
         reward += gamma * static_cast<double>(model.value(terminal, cache)(0));
         out.policy_s += seconds_since(t0);
       }
       rec.rewards(col(j)) = static_cast<float>(reward);
     }
-    obs = r.obs;
   }
   const auto t0 = std::chrono::steady_clock::now();
   const Eigen::MatrixXf last = obs.cast<float>();

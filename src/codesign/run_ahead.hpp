@@ -12,6 +12,9 @@
 //     at their own places (zeros elsewhere), so each column goes through the kernels chosen for ψ
 //     columns at its own place: a column of a matrix product depends on no other column's values;
 //   - the terminal bootstrap V(terminal obs) is one column, as in the one-process rollout.
+// Since no environment's numbers depend on the others', a share need not step all its environments
+// at every decision: run_share advances them in waves (rollout_waves.hpp), which keeps its threads
+// busy when they do not divide its environments.
 // Observation statistics (ppo.normalize_observations) follow every environment's observations in
 // order, and a recurrent policy keeps state: such rollouts stay step by step (OuterLoop decides).
 //
@@ -48,19 +51,25 @@ struct ShareRollout {
   std::vector<RolloutStepColumns> steps;  // n_steps
   Eigen::RowVectorXf last_values;         // V(observations after the last step)
   double policy_s = 0.0;                  // wall seconds in the policy's forward passes
+  int passes = 0;                         // the ψ-wide forward passes that chose actions (one per wave)
 };
 
 // A ShareRollout of n_steps decisions of n environments, every array sized and zero.
 ShareRollout empty_share(int n_steps, std::size_t n, std::size_t obs_dim, std::size_t act_dim);
 
-// Runs n_steps decisions of `model` on all of `pool`'s environments, started with `setups` (the
+// How run_share orders its environments' jobs (rollout_waves.hpp): in waves chosen by next_wave,
+// or every environment at every decision (one forward pass per decision). The results are the same.
+enum class ShareSchedule { Waves, EveryDecision };
+
+// Runs n_steps decisions of `model` on all of `pool`'s environments, started with `setups` (as the
 // pool's start()), which are columns places[0..] of a batch of `width` columns; normals[k] holds
 // the standard normals of decision k for all `width` columns (act_dim x width). Actions are clipped
 // to the pool's action bounds before they step; the last step does not restart finished episodes.
 // std::invalid_argument if the sizes disagree.
-ShareRollout run_share(EnvPool& pool, const std::vector<EpisodeSetup>& setups, const rl::ActorCritic& model,
+ShareRollout run_share(ThreadEnvPool& pool, const std::vector<EpisodeSetup>& setups, const rl::ActorCritic& model,
                        rl::ActorCritic::InferenceCache& cache, const std::vector<std::size_t>& places,
-                       std::size_t width, const std::vector<Eigen::MatrixXd>& normals, double gamma);
+                       std::size_t width, const std::vector<Eigen::MatrixXd>& normals, double gamma,
+                       ShareSchedule schedule = ShareSchedule::Waves);
 
 // Copies `share` (environments in the share's order) into columns places[j] of `into`.
 void place_share(const ShareRollout& share, const std::vector<std::size_t>& places, ShareRollout& into);

@@ -146,6 +146,24 @@ TEST(MeetingLoad, MeetingOnlyAtTheEndIsNeverSlower) {
     }
 }
 
+// Waves (codesign/rollout_waves.hpp) with every job costing 1 s: a start and 50 decisions per
+// environment. 40 environments on 16 ranks: the busiest ranks hold 3, on 2 threads 153 jobs two at
+// a time, the last alone: 77 s, where meeting at each decision takes 51 rounds of 2 s (the
+// normaliser: 2 rounds x mean total 51 = 102): waves = 77 / 102. With a forward pass of 0.25 s
+// per wave that steps (all but the first, which only starts two): 77 + 76 x 0.25 less the 50
+// passes the model counts anyway = 83.5 s; a rank of 2 takes 51 waves either way (51 + 50 x 0.25
+// - 50 x 0.25). One rank of 2 threads holding all 40: every wave is all of them, 51 x 20 s = the
+// normaliser: 1. Deterministic: every draw is alike.
+TEST(MeetingLoad, WavesOfEqualCostsMatchTheCount) {
+  const std::vector<double> p(51, 1.0);
+  const std::vector<DecisionCosts> same = {{3, p}, {7, p}};
+  EXPECT_NEAR(meeting_load_factor(same, 40, 16, 2, 20, 1).waves, 77.0 / 102.0, 1e-12);
+  EXPECT_NEAR(meeting_load_factor(same, 40, 16, 2, 20, 1, 0.25).waves, 83.5 / 102.0, 1e-12);
+  EXPECT_NEAR(meeting_load_factor(same, 40, 16, 2, 20, 1).run_ahead, 1.0, 1e-12);
+  EXPECT_NEAR(meeting_load_factor(same, 40, 1, 2, 20, 1, 0.25).waves, 1.0, 1e-12);
+  EXPECT_NEAR(meeting_load_factor(same, 40, 2, 1, 20, 1, 0.25).waves, 1.0, 1e-12);  // one thread: all at once
+}
+
 TEST(MeetingLoad, BadInputIsRefused) {
   const std::vector<DecisionCosts> ok = {{0, {1.0, 1.0}}};
   EXPECT_THROW(meeting_load_factor({}, 4, 2, 1, 10, 1), std::invalid_argument);
@@ -156,6 +174,7 @@ TEST(MeetingLoad, BadInputIsRefused) {
   EXPECT_THROW(meeting_load_factor(ok, 4, 2, 1, 0, 1), std::invalid_argument);
   EXPECT_THROW(meeting_load_factor(ok, 4, 5, 1, 10, 1), std::invalid_argument);
   EXPECT_THROW(meeting_load_factor(ok, 4, 2, 0, 10, 1), std::invalid_argument);
+  EXPECT_THROW(meeting_load_factor(ok, 4, 2, 1, 10, 1, -0.1), std::invalid_argument);  // a negative pass
 }
 
 }  // namespace
