@@ -47,6 +47,7 @@
 #include "codesign/outer_loop.hpp"
 #include "commands.hpp"
 #include "minibatch_timing.hpp"
+#include "rl/recurrent_ppo.hpp"
 #include "run/rollout_backend.hpp"
 #include "run/run_config.hpp"
 
@@ -71,6 +72,36 @@ double minibatch_gradient_seconds(const rl::ActorCritic& model, Eigen::Index wid
   mb.advantages = normals(1);
   mb.returns = normals(1);
   return minibatch_loss_seconds<float>(model, mb, {0.2, 0.01, 0.5, true}, 1, reps);
+}
+
+// The same for the recurrent model (rl/recurrent_ppo.hpp): a minibatch of `sequences` whole
+// sequences of `steps` decisions, each one episode from a zero state as the co-design's columns
+// are, synthetic values, on one thread. After one untimed pass.
+double recurrent_minibatch_gradient_seconds(const rl::RecurrentActorCritic& model, int sequences, int steps,
+                                            int reps) {
+  rl::Rng rng(20261207);
+  const Eigen::Index cols = Eigen::Index{sequences} * steps;
+  auto normals = [&](Eigen::Index rows) {
+    Eigen::MatrixXf x(rows, cols);
+    for (Eigen::Index i = 0; i < x.size(); ++i) x(i) = static_cast<float>(rng.normal());
+    return x;
+  };
+  rl::RecurrentMinibatchT<float> mb;
+  mb.samples.obs = normals(model.critic_input_dim());
+  mb.samples.actions = normals(model.act_dim());
+  mb.samples.old_log_prob = normals(1);
+  mb.samples.advantages = normals(1);
+  mb.samples.returns = normals(1);
+  mb.starts = Eigen::RowVectorXf::Zero(cols);
+  mb.starts.head(sequences).setOnes();  // column t·B + b: step 0 of every sequence starts an episode
+  const int h = model.actor_gru().hidden_dim();
+  mb.h0_actor = Eigen::MatrixXf::Zero(h, sequences);
+  mb.h0_critic = Eigen::MatrixXf::Zero(model.critic_gru().hidden_dim(), sequences);
+  mb.steps = steps;
+  rl::RecurrentWorkspaceT<float> ws;
+  auto grad = model.zero_grad();
+  const rl::PpoLossCoefficients coefs{0.2, 0.01, 0.5, true};
+  return median_seconds([&] { rl::recurrent_minibatch_loss<float>(model, mb, coefs, &grad, ws); }, 1, reps);
 }
 
 // The machine's CPU time so far from the first line of /proc/stat, in core-seconds: busy (user,
@@ -433,8 +464,9 @@ int run_bench_cluster(const BenchClusterOptions& o) {
     std::printf("bench cluster: the update spread with its messages: %.1f minibatches with a gradient per iteration, a "
                 "gradient of %zu floats (%.1f MB), 2 (N-1)/N gradients in and out of every rank per minibatch\n",
                 priced.update_minibatches, gradient_floats, bytes / 1e6);
-    // e(N): the busiest rank's share of a minibatch, ceil(B/N) samples, against the whole (one thread,
-    // feed-forward policies; the recurrent update's shares are whole sequences, not measured).
+    // e(N): the busiest rank's share of a minibatch, ceil(B/N) samples, against the whole (one thread);
+    // for the recurrent policy ceil(S/N) whole sequences of the minibatch's S (at least one: with
+    // more ranks than sequences the others have nothing to do, which e prices).
     const int batch = lc.ppo.batch_size;
     std::map<int, double> share_cost;
     if (!loop.recurrent_model()) {
@@ -450,7 +482,19 @@ int run_bench_cluster(const BenchClusterOptions& o) {
       }
       std::printf("\n");
     } else {
-      std::printf("  the recurrent update's shares are not measured: e = 1 (u / N, optimistic)\n");
+      const int per = rl::sequences_per_minibatch(lc.ppo, psi);
+      const rl::RecurrentActorCritic& rm = *loop.recurrent_model();
+      const double whole = recurrent_minibatch_gradient_seconds(rm, per, n_steps, 15);
+      std::printf("  one minibatch's loss and gradient on one thread, %d sequences of %d decisions: %.2f ms; the "
+                  "busiest rank's share on N ranks, times N, over it (the model's e):",
+                  per, n_steps, 1e3 * whole);
+      for (int r : {2, 4, 8, 16, 32, 64}) {
+        if (r > psi) break;
+        const int share = (per + r - 1) / r;
+        share_cost[r] = recurrent_minibatch_gradient_seconds(rm, share, n_steps, 15) * r / whole;
+        std::printf(" N = %d (%d sequence(s)) %.2f;", r, share, share_cost[r]);
+      }
+      std::printf("\n");
     }
     std::vector<std::pair<std::string, double>> links;
     if (ranks > 1) links.emplace_back("this launch's ranks", gradient_transfer);
