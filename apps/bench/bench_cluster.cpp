@@ -58,19 +58,26 @@ namespace {
 // Median seconds of one minibatch's loss and gradient on `width` samples of synthetic data (the
 // cost does not depend on the values), on one thread, with the run's feed-forward model: its sizes
 // and matrix-product precision. After one untimed pass.
-double minibatch_gradient_seconds(const rl::ActorCritic& model, Eigen::Index width, int reps) {
-  rl::Rng rng(20261206);
+// A minibatch of `width` samples of standard normal values for a policy of these sizes.
+rl::PpoMinibatchT<float> synthetic_minibatch(Eigen::Index obs_rows, Eigen::Index act_rows, Eigen::Index width,
+                                             std::uint64_t seed) {
+  rl::Rng rng(seed);
   auto normals = [&](Eigen::Index rows) {
     Eigen::MatrixXf x(rows, width);
     for (Eigen::Index i = 0; i < x.size(); ++i) x(i) = static_cast<float>(rng.normal());
     return x;
   };
   rl::PpoMinibatchT<float> mb;
-  mb.obs = normals(model.critic_input_dim());
-  mb.actions = normals(model.act_dim());
+  mb.obs = normals(obs_rows);
+  mb.actions = normals(act_rows);
   mb.old_log_prob = normals(1);
   mb.advantages = normals(1);
   mb.returns = normals(1);
+  return mb;
+}
+
+double minibatch_gradient_seconds(const rl::ActorCritic& model, Eigen::Index width, int reps) {
+  const rl::PpoMinibatchT<float> mb = synthetic_minibatch(model.critic_input_dim(), model.act_dim(), width, 20261206);
   return minibatch_loss_seconds<float>(model, mb, {0.2, 0.01, 0.5, true}, 1, reps);
 }
 
@@ -79,23 +86,12 @@ double minibatch_gradient_seconds(const rl::ActorCritic& model, Eigen::Index wid
 // are, synthetic values, on one thread. After one untimed pass.
 double recurrent_minibatch_gradient_seconds(const rl::RecurrentActorCritic& model, int sequences, int steps,
                                             int reps) {
-  rl::Rng rng(20261207);
   const Eigen::Index cols = Eigen::Index{sequences} * steps;
-  auto normals = [&](Eigen::Index rows) {
-    Eigen::MatrixXf x(rows, cols);
-    for (Eigen::Index i = 0; i < x.size(); ++i) x(i) = static_cast<float>(rng.normal());
-    return x;
-  };
   rl::RecurrentMinibatchT<float> mb;
-  mb.samples.obs = normals(model.critic_input_dim());
-  mb.samples.actions = normals(model.act_dim());
-  mb.samples.old_log_prob = normals(1);
-  mb.samples.advantages = normals(1);
-  mb.samples.returns = normals(1);
+  mb.samples = synthetic_minibatch(model.critic_input_dim(), model.act_dim(), cols, 20261207);
   mb.starts = Eigen::RowVectorXf::Zero(cols);
   mb.starts.head(sequences).setOnes();  // column t·B + b: step 0 of every sequence starts an episode
-  const int h = model.actor_gru().hidden_dim();
-  mb.h0_actor = Eigen::MatrixXf::Zero(h, sequences);
+  mb.h0_actor = Eigen::MatrixXf::Zero(model.actor_gru().hidden_dim(), sequences);
   mb.h0_critic = Eigen::MatrixXf::Zero(model.critic_gru().hidden_dim(), sequences);
   mb.steps = steps;
   rl::RecurrentWorkspaceT<float> ws;
@@ -226,12 +222,12 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
                 iterations_total * cluster::iteration_seconds(end, r) / 60.0);
     if (r == 16) {
       const double run16 = iterations_total * cluster::iteration_seconds(whole_rollouts ? end : every, r) / 60.0;
-      cluster::ScalingCosts floor = c;
-      floor.collect_factor = m.floor / own.lockstep;
+      cluster::ScalingCosts at_floor = c;
+      at_floor.collect_factor = m.floor / own.lockstep;
       std::printf("  goal (issue 20 §3), the meeting counted: the run in <= 5 min on 16 ranks x %d thread(s): %.1f min "
                   "(%s): %s; with the floor of any order of a rank's jobs %.1f min\n",
                   c.threads_per_rank, run16, whole_rollouts ? "whole rollouts on the ranks" : "step by step",
-                  run16 <= 5.0 ? "met" : "NOT met", iterations_total * cluster::iteration_seconds(floor, r) / 60.0);
+                  run16 <= 5.0 ? "met" : "NOT met", iterations_total * cluster::iteration_seconds(at_floor, r) / 60.0);
     }
   }
   // Not built: the threads of each rank running their environments' whole rollouts too, so nothing

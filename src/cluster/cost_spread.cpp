@@ -179,14 +179,14 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
     const std::vector<std::size_t> order = assign_by_cost(predicted, slices, {});
     std::fill(rank_sum.begin(), rank_sum.end(), 0.0);
     std::fill(slowest.begin(), slowest.end(), 0.0);
-    double floor = 0.0;
+    double floor_here = 0.0;  // this draw's: the largest over the ranks
     for (std::size_t r = 0; r < slices.size(); ++r) {
       double longest = 0.0, all = 0.0;
       for (std::size_t j = slices[r].first; j < slices[r].first + slices[r].count; ++j) {
         longest = std::max(longest, total[drawn[order[j]]]);
         all += total[drawn[order[j]]];
       }
-      floor = std::max(floor, std::max(longest, all / static_cast<double>(threads)));
+      floor_here = std::max(floor_here, std::max(longest, all / static_cast<double>(threads)));
       // This rank's environments at each point, in the order of their previous costs (at the
       // start: of the predicted totals).
       std::vector<double> key, now(slices[r].count);
@@ -203,7 +203,7 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
     sum_lockstep += lockstep;
     sum_start += slowest.front();
     sum_run_ahead += *std::max_element(rank_sum.begin(), rank_sum.end());
-    sum_floor += floor;
+    sum_floor += floor_here;
   }
   const double norm = static_cast<double>(draws) * rounds * mean;
   if (norm <= 0.0) return {};
