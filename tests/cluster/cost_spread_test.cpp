@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -125,10 +126,9 @@ TEST(MeetingLoad, TheStartsShareMatchesTheEnumeration) {
   EXPECT_NEAR(m.lockstep - m.start, 1.0 / 3.0, 1e-12);  // every draw's decision takes exactly 1
 }
 
-// The maximum of the ranks' sums never exceeds the sum of the per-point maxima: run_ahead ≤
-// lockstep for any costs; on random profiles of 10 designs, 40 environments, 1 to 8 ranks.
-TEST(MeetingLoad, MeetingOnlyAtTheEndIsNeverSlower) {
-  std::mt19937_64 rng(7);
+// 60 profiles of 11 points, costs uniform in [0, 1), of 10 designs (6 samples each).
+std::vector<DecisionCosts> random_profiles(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> cost(0.0, 1.0);
   std::vector<DecisionCosts> samples;
   for (int k = 0; k < 60; ++k) {
@@ -136,6 +136,13 @@ TEST(MeetingLoad, MeetingOnlyAtTheEndIsNeverSlower) {
     for (int p = 0; p < 11; ++p) d.seconds.push_back(cost(rng));
     samples.push_back(d);
   }
+  return samples;
+}
+
+// The maximum of the ranks' sums never exceeds the sum of the per-point maxima: run_ahead ≤
+// lockstep for any costs; on random profiles of 10 designs, 40 environments, 1 to 8 ranks.
+TEST(MeetingLoad, MeetingOnlyAtTheEndIsNeverSlower) {
+  const std::vector<DecisionCosts> samples = random_profiles(7);
   for (int ranks : {1, 2, 4, 8})
     for (int threads : {1, 2}) {
       const MeetingLoad m = meeting_load_factor(samples, 40, ranks, threads, 200, 3);
@@ -166,14 +173,7 @@ TEST(MeetingLoad, TheFloorMatchesTheCount) {
 // No order of a rank's jobs beats the floor, the meeting at each decision within a rank included:
 // floor <= run_ahead on random profiles of 10 designs, 40 environments, 1 to 16 ranks.
 TEST(MeetingLoad, TheFloorIsNeverAboveMeetingAtTheEnd) {
-  std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> cost(0.0, 1.0);
-  std::vector<DecisionCosts> samples;
-  for (int k = 0; k < 60; ++k) {
-    DecisionCosts d{k % 10, {}};
-    for (int p = 0; p < 11; ++p) d.seconds.push_back(cost(rng));
-    samples.push_back(d);
-  }
+  const std::vector<DecisionCosts> samples = random_profiles(11);
   for (int ranks : {1, 2, 4, 16})
     for (int threads : {1, 2, 3}) {
       const MeetingLoad m = meeting_load_factor(samples, 40, ranks, threads, 200, 5);
