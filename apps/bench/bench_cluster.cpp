@@ -55,9 +55,6 @@ namespace codesign::app {
 
 namespace {
 
-// Median seconds of one minibatch's loss and gradient on `width` samples of synthetic data (the
-// cost does not depend on the values), on one thread, with the run's feed-forward model: its sizes
-// and matrix-product precision. After one untimed pass.
 // A minibatch of `width` samples of standard normal values for a policy of these sizes.
 rl::PpoMinibatchT<float> synthetic_minibatch(Eigen::Index obs_rows, Eigen::Index act_rows, Eigen::Index width,
                                              std::uint64_t seed) {
@@ -76,6 +73,9 @@ rl::PpoMinibatchT<float> synthetic_minibatch(Eigen::Index obs_rows, Eigen::Index
   return mb;
 }
 
+// Median seconds of one minibatch's loss and gradient on `width` samples of synthetic data (the
+// cost does not depend on the values), on one thread, with the run's feed-forward model: its sizes
+// and matrix-product precision. After one untimed pass.
 double minibatch_gradient_seconds(const rl::ActorCritic& model, Eigen::Index width, int reps) {
   const rl::PpoMinibatchT<float> mb = synthetic_minibatch(model.critic_input_dim(), model.act_dim(), width, 20261206);
   return minibatch_loss_seconds<float>(model, mb, {0.2, 0.01, 0.5, true}, 1, reps);
