@@ -3,7 +3,7 @@
 # the mean active time of its two-rank runs over the mean of its one-process runs, and where a
 # round holds two runs of one kind, the second's over the first's (the A/A check: what the method
 # gives for no difference); then over the rounds the mean of each ratio, its sample standard
-# deviation and standard error (the rounds taken as independent).
+# deviation, standard error and one-sided 95 % upper bound (the rounds taken as independent).
 #
 #   bash scripts/cluster_sliced_summary.sh OUTDIR [OUTDIR...]
 #
@@ -24,7 +24,15 @@ done | awk '
     if (k == 0) return
     m = 0; for (i = 1; i <= k; ++i) m += v[i]; m /= k
     d = 0; for (i = 1; i <= k; ++i) d += (v[i] - m) ^ 2
-    if (k > 1) printf "%s: mean %.4f over %d rounds, sample sd %.4f, standard error %.4f\n", name, m, k, sqrt(d / (k - 1)), sqrt(d / (k - 1) / k)
+    if (k > 1) {
+      printf "%s: mean %.4f over %d rounds, sample sd %.4f, standard error %.4f", name, m, k, sqrt(d / (k - 1)), sqrt(d / (k - 1) / k)
+      # One-sided 95 % upper bound of the mean: Student t with k - 1 degrees of freedom (its 0.95
+      # quantile from the usual table; past 30 degrees that of 30, which widens the bound).
+      split("6.314 2.920 2.353 2.132 2.015 1.943 1.895 1.860 1.833 1.812 1.796 1.782 1.771 1.761 1.753 " \
+            "1.746 1.740 1.734 1.729 1.725 1.721 1.717 1.714 1.711 1.708 1.706 1.703 1.701 1.699 1.697", tq, " ")
+      t = tq[(k - 1 <= 30) ? k - 1 : 30]
+      printf ", one-sided 95 %% upper bound %.4f (t %.3f)\n", m + t * sqrt(d / (k - 1) / k), t
+    }
     else printf "%s: %.4f (one round)\n", name, m
   }
   END {
