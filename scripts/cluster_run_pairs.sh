@@ -26,16 +26,8 @@ fi
 BIN=$(readlink -f "$1"); [ -z "${BASELINE:-}" ] || BASELINE=$(readlink -f "$BASELINE"); mkdir -p "$2"; OUT=$(readlink -f "$2"); N=$3; D=${4:-200000}
 cd "$(dirname "$0")/.."
 CFG="$OUT/config.toml"
-scaled() { awk -v d="$D" -v v="$1" 'BEGIN { printf "%d", v * d / 1000000 }'; }
-sed -E "s/^total_timesteps = [0-9]+/total_timesteps = $D/;
-        s/^exploration_end = [0-9]+/exploration_end = $(scaled 220000)/;
-        s/^exploitation_start = [0-9]+/exploitation_start = $(scaled 800000)/;
-        s/^ent_decay_start = [0-9]+/ent_decay_start = $(scaled 220000)/;
-        s/^ent_decay_end = [0-9]+/ent_decay_end = $(scaled 800000)/" configs/paper.toml > "$CFG"
-for key in total_timesteps exploration_end exploitation_start ent_decay_start ent_decay_end; do
-  grep -E "^$key = " "$CFG" > /dev/null || { echo "cluster_run_pairs.sh: $key not set in $CFG" >&2; exit 2; }
-done
 . "$(dirname "$(readlink -f "$0")")/cluster_common.sh"  # $MPI: two ranks on this machine
+paper_cut_to "$D" "$CFG" cluster_run_pairs.sh
 
 # $1: run folder, $2: wall seconds. ppo.csv's columns are looked up by name in its header.
 report() {

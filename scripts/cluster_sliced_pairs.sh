@@ -34,16 +34,8 @@ for k in "${KIND[@]}"; do
 done
 cd "$(dirname "$0")/.."
 CFG="$OUT/config.toml"
-scaled() { awk -v d="$D" -v v="$1" 'BEGIN { printf "%d", v * d / 1000000 }'; }
-sed -E "s/^total_timesteps = [0-9]+/total_timesteps = $D/;
-        s/^exploration_end = [0-9]+/exploration_end = $(scaled 220000)/;
-        s/^exploitation_start = [0-9]+/exploitation_start = $(scaled 800000)/;
-        s/^ent_decay_start = [0-9]+/ent_decay_start = $(scaled 220000)/;
-        s/^ent_decay_end = [0-9]+/ent_decay_end = $(scaled 800000)/" configs/paper.toml > "$CFG"
-for key in total_timesteps exploration_end exploitation_start ent_decay_start ent_decay_end; do
-  grep -E "^$key = " "$CFG" > /dev/null || { echo "cluster_sliced_pairs.sh: $key not set in $CFG" >&2; exit 2; }
-done
 . "$(dirname "$(readlink -f "$0")")/cluster_common.sh"  # $MPI: two ranks on this machine
+paper_cut_to "$D" "$CFG" cluster_sliced_pairs.sh
 
 # $1: kind, $2: run folder. Starts the run stopped, in a session of its own (mpirun puts each rank
 # in a process group of its own, so the stops go to the whole session) whose id is left in $started
