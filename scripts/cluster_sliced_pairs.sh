@@ -15,10 +15,11 @@
 # cluster_run_pairs.sh's: configs/paper.toml cut to DECISIONS decisions (default 60000) with its
 # phases scaled, written to OUTDIR/config.toml. SLICE: whole seconds, default 10. The run that
 # takes the first slice turns with the rounds. Writes OUTDIR/N.A/, N.B/, ... (run folders, logs
-# beside them) and OUTDIR/N.time, and prints per run its active seconds, windows and ratio to run
-# A, and scripts/compare_runs.sh's count against A (the runs must be identical but for wall-clock
-# fields; the runs' own timing columns include the time they were stopped). Run it on otherwise
-# idle cores. Open MPI on this machine only (shared memory, loopback).
+# beside them), OUTDIR/N.time and OUTDIR/N.windows (per window: run, start, end in microseconds,
+# how it ended), and prints per run its active seconds, windows and ratio to run A, and
+# scripts/compare_runs.sh's count against A (the runs must be identical but for wall-clock fields;
+# the runs' own timing columns include the time they were stopped). Run it on otherwise idle
+# cores. Open MPI on this machine only (shared memory, loopback).
 set -euo pipefail
 export LC_ALL=C  # EPOCHREALTIME with a decimal point
 if [ $# -lt 3 ]; then
@@ -38,9 +39,10 @@ CFG="$OUT/config.toml"
 paper_cut_to "$D" "$CFG" cluster_sliced_pairs.sh
 
 # $1: kind, $2: run folder. Starts the run stopped, in a session of its own (mpirun puts each rank
-# in a process group of its own, so the stops go to the whole session) whose id is left in $started
-# (a child of this shell, to be waited for): the shell stops itself
-# before it becomes the run.
+# in a process group of its own, so the stops go to the whole session): the shell stops itself
+# before it becomes the run. The session's id is left in $started; it is the pid of a child of
+# this shell, to be waited for (setsid does not fork here: a background job of a script leads no
+# process group).
 start() {
   local cmd
   if [ "$1" = one ]; then cmd="$BIN --threads 2"; else cmd="$MPI $BIN --threads 1"; fi
