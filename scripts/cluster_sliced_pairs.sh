@@ -49,22 +49,29 @@ start() {
   setsid bash -c 'kill -STOP $$; exec "$@"' _ $cmd --config "$CFG" -o "$2" > "$2.log" 2>&1 &
   local pid=$!
   # Wait until it has stopped itself, so that the first SIGCONT cannot come before its SIGSTOP.
-  local state=""
-  until [ "$state" = T ]; do read -r _ _ state _ < "/proc/$pid/stat"; done
+  state_of "$pid"
+  until [ "$state" = T ]; do
+    [ "$state" != Z ] || { echo "cluster_sliced_pairs.sh: the run for $2 ended before it began (log $2.log)" >&2; exit 1; }
+    state_of "$pid"
+  done
   started=$pid
+}
+# Leaves in $state the state letter of process $1 from /proc (Z also for one that is gone: it
+# has ended and been reaped). A builtin read, no new process.
+state_of() {
+  state=Z
+  { read -r _ _ state _ < "/proc/$1/stat"; } 2> /dev/null || state=Z
 }
 # $1: pid. True while the run has not ended (a zombie has ended: it waits only to be reaped).
 alive() {
-  local state=Z
-  { read -r _ _ state _ < "/proc/$1/stat"; } 2> /dev/null || return 1
+  state_of "$1"
   [ "$state" != Z ]
 }
 # True when every process of session $1 is stopped or has ended.
 stopped() {
-  local p state
+  local p
   for p in $(pgrep -s "$1"); do
-    state=Z
-    { read -r _ _ state _ < "/proc/$p/stat"; } 2> /dev/null || continue
+    state_of "$p"
     case "$state" in T|t|Z|X) ;; *) return 1 ;; esac
   done
 }
@@ -115,7 +122,7 @@ for i in $(seq 1 "$N"); do
   : > "$OUT/$i.time"
   for k in "${!KIND[@]}"; do
     awk -v t="${t[k]}" -v t0="${t[0]}" -v w="${w[k]}" -v n="${NAME[$k]}" -v kind="${KIND[$k]}" -v i="$i" \
-      'BEGIN { printf "round %d: %s (%s) %.3f s in %d windows, %.4f of %s\n", i, n, kind, t / 1e6, w, t / t0, "A" }' |
+      'BEGIN { printf "round %d: %s (%s) %.3f s in %d windows, %.4f of A\n", i, n, kind, t / 1e6, w, t / t0 }' |
       tee -a "$OUT/$i.time"
   done
   for k in "${!KIND[@]}"; do
