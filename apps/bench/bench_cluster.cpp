@@ -220,6 +220,17 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
                 m.run_ahead, m.floor,
                 iterations_total * cluster::iteration_seconds(every, r) / 60.0,
                 iterations_total * cluster::iteration_seconds(end, r) / 60.0);
+    if (r > 1) {
+      // The ranks' starts run while rank 0 updates (MpiEnvPool::prestart): F without them, and
+      // their wall beside the update (the same normalisation as L).
+      cluster::ScalingCosts pre = c;
+      pre.collect_factor = m.prestarted / own.lockstep;
+      pre.prestart_s = m.prestart / own.lockstep * static_cast<double>(cluster::collection_rounds(psi, r, c.threads_per_rank)) *
+                       c.env_collect_s;
+      std::printf("        | the ranks' starts during rank 0's update: L = %.3f, the starts %.3f s beside an update of %.3f s: "
+                  "run %.1f min\n",
+                  m.prestarted, pre.prestart_s, c.update_s, iterations_total * cluster::iteration_seconds(pre, r) / 60.0);
+    }
     if (r == 16) {
       const double run16 = iterations_total * cluster::iteration_seconds(whole_rollouts ? end : every, r) / 60.0;
       cluster::ScalingCosts at_floor = c;

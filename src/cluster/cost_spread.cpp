@@ -168,7 +168,9 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
   std::vector<double> load(static_cast<std::size_t>(threads));
   std::vector<double> rank_sum(slices.size());  // per rank: its time summed over the points
   std::vector<double> slowest(points);          // per point: the slowest rank's time
-  double sum_lockstep = 0.0, sum_run_ahead = 0.0, sum_start = 0.0, sum_floor = 0.0;
+  std::vector<double> rank_start(slices.size());  // per rank: its time at point 0
+  double sum_lockstep = 0.0, sum_run_ahead = 0.0, sum_start = 0.0, sum_floor = 0.0, sum_prestarted = 0.0,
+         sum_prestart = 0.0;
   for (int d = 0; d < draws; ++d) {
     for (std::size_t i = 0; i < environments; ++i) {
       const std::size_t s = pick(samples.size());
@@ -195,6 +197,7 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
         for (std::size_t e = 0; e < now.size(); ++e) now[e] = samples[drawn[order[slices[r].first + e]]].seconds[k];
         const double t = list_makespan(now, by_decreasing(key), load);
         rank_sum[r] += t;
+        if (k == 0) rank_start[r] = t;
         slowest[k] = std::max(slowest[k], t);
         key = now;
       }
@@ -204,10 +207,18 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
     sum_start += slowest.front();
     sum_run_ahead += *std::max_element(rank_sum.begin(), rank_sum.end());
     sum_floor += floor_here;
+    double prestarted = rank_sum.front(), prestart = 0.0;
+    for (std::size_t r = 1; r < slices.size(); ++r) {
+      prestarted = std::max(prestarted, rank_sum[r] - rank_start[r]);
+      prestart = std::max(prestart, rank_start[r]);
+    }
+    sum_prestarted += prestarted;
+    sum_prestart += prestart;
   }
   const double norm = static_cast<double>(draws) * rounds * mean;
   if (norm <= 0.0) return {};
-  return {sum_lockstep / norm, sum_run_ahead / norm, sum_start / norm, sum_floor / norm};
+  return {sum_lockstep / norm, sum_run_ahead / norm, sum_start / norm, sum_floor / norm, sum_prestarted / norm,
+          sum_prestart / norm};
 }
 
 }  // namespace codesign::cluster

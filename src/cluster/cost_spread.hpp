@@ -76,11 +76,17 @@ struct DecisionCosts {
 // floor: E[max over ranks of max(its costliest environment's iteration total, its environments'
 // totals summed / threads)], the same normalisation: what no order of a rank's jobs on its threads
 // can beat, since an environment's decisions follow one another (floor <= run_ahead for any costs).
+// prestarted: as run_ahead, but ranks 1.. have run their start (point 0) before the iteration, while
+// rank 0 ran the previous iteration's update (MpiEnvPool::prestart): max(rank 0's Σ_k, max over the
+// other ranks of Σ_{k≥1}); prestart: E[max over ranks 1.. of their time at point 0], what the
+// update must cover for that. One rank: prestarted == run_ahead, prestart == 0.
 struct MeetingLoad {
   double lockstep = 1.0;
   double run_ahead = 1.0;
   double start = 0.0;
   double floor = 1.0;
+  double prestarted = 1.0;
+  double prestart = 0.0;
 };
 MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::size_t environments, int ranks,
                                 int threads, int draws, std::uint64_t seed);

@@ -28,7 +28,10 @@ namespace {
 // each rank sends back the meshes it made itself meanwhile. Both messages always go (an empty one
 // holds a count of 0). During a whole rollout a rank that has run its share sends each other rank on
 // its machine a note (kTagDone, one int), which they take up between environments (LendingRound).
-enum Command : int { kStop = 0, kStart = 1, kStep = 2, kTimes = 3, kPing = 4, kCosts = 5, kRollout = 6 };
+// kPrestart carries the same two payloads and the meshes as kRollout; the rank starts its share
+// then and keeps the first observations; a later kRollout with flag -n_steps (negative) means
+// "your share is started": only the two broadcasts follow.
+enum Command : int { kStop = 0, kStart = 1, kStep = 2, kTimes = 3, kPing = 4, kCosts = 5, kRollout = 6, kPrestart = 7 };
 constexpr int kTagCommand = 101, kTagPayload = 102, kTagReply = 103, kTagReasons = 104, kTagMeshes = 105, kTagDone = 106;
 
 void send_doubles(const std::vector<double>& v, int to, int tag) {
@@ -243,6 +246,8 @@ MpiEnvPool::~MpiEnvPool() {
 }
 
 std::vector<double> MpiEnvPool::work_since_start() const {
+  // After a prestart the ranks' counters hold the next starts: the last rollout's, read before them.
+  if (!prestart_setups_.empty()) return work_before_prestart_;
   std::vector<double> work(n_envs_);
   const std::vector<double> mine = local_->work_since_start();
   for (std::size_t k = 0; k < mine.size(); ++k) work[order_[k]] = mine[k];
@@ -256,10 +261,11 @@ std::vector<double> MpiEnvPool::work_since_start() const {
 
 double MpiEnvPool::imbalance(const std::vector<double>& work) const {
   if (work.size() != n_envs_) throw std::invalid_argument("MpiEnvPool::imbalance: one figure per environment");
+  const std::vector<std::size_t>& order = prestart_setups_.empty() ? order_ : order_before_prestart_;
   double busiest = 0.0, total = 0.0;
   for (const EnvSlice& sl : slices_) {
     double w = 0.0;
-    for (std::size_t j = sl.first; j < sl.first + sl.count; ++j) w += work[order_[j]];
+    for (std::size_t j = sl.first; j < sl.first + sl.count; ++j) w += work[order[j]];
     busiest = std::max(busiest, w);
     total += w;
   }
@@ -269,8 +275,7 @@ double MpiEnvPool::imbalance(const std::vector<double>& work) const {
 // What each design cost in the iteration that just ended (settle and step CPU seconds of its
 // environment; the mean where several environments had it). build_.design still holds that
 // iteration's designs: assign() calls this before it sets the next ones.
-void MpiEnvPool::learn_costs() {
-  const std::vector<double> work = work_since_start();
+void MpiEnvPool::learn_costs(const std::vector<double>& work) {
   std::vector<double> sum(design_cost_.size(), 0.0), count(design_cost_.size(), 0.0);
   for (std::size_t i = 0; i < n_envs_; ++i) {
     const int d = build_.design[i];
@@ -282,9 +287,10 @@ void MpiEnvPool::learn_costs() {
     if (count[d] > 0.0) design_cost_[d] = sum[d] / count[d];
 }
 
-std::vector<core::EpisodeSetup> MpiEnvPool::assign(const std::vector<core::EpisodeSetup>& setups) {
+std::vector<core::EpisodeSetup> MpiEnvPool::assign(const std::vector<core::EpisodeSetup>& setups,
+                                                   const std::vector<double>* work) {
   if (setups.size() != n_envs_) throw std::invalid_argument("MpiEnvPool::start: one setup per environment");
-  if (starts_ > 0) learn_costs();
+  if (starts_ > 0) learn_costs(work ? *work : work_since_start());
   // Predicted cost of each environment (predict_costs). Before any design is known (the first
   // start) the slices stay contiguous.
   build_.design.resize(n_envs_);
@@ -400,9 +406,52 @@ const rl::VecStepResult& MpiEnvPool::step(const Eigen::MatrixXd& actions, bool r
   return result_;
 }
 
+bool MpiEnvPool::prestarts(int r) const {
+  if (r < 1 || r >= ranks_) return false;
+  const bool peer = std::find(lending_.peers.begin(), lending_.peers.end(), r) != lending_.peers.end();
+  // A rank of rank 0's machine has cores of its own during the update only if rank 0's own
+  // threads hold the update's two (own_threads 0: rank 0's pool is the machine's).
+  return !peer || lending_.own_threads >= 2;
+}
+
+void MpiEnvPool::send_share(int r, int command, int flag, const std::vector<core::EpisodeSetup>& placed, double gamma) {
+  send_command(r, static_cast<Command>(command), flag);
+  send_doubles(pack_setups(placed, slices_[r].first, slices_[r].count), r, kTagPayload);
+  std::vector<double> where{gamma, static_cast<double>(n_envs_)};
+  for (std::size_t j = slices_[r].first; j < slices_[r].first + slices_[r].count; ++j)
+    where.push_back(static_cast<double>(order_[j]));
+  send_doubles(where, r, kTagPayload);
+  send_meshes_to(r);
+}
+
+void MpiEnvPool::prestart(const std::vector<core::EpisodeSetup>& setups) {
+  if (!prestart_setups_.empty()) throw std::logic_error("MpiEnvPool::prestart: the last prestart's rollout has not run");
+  rank_prestarted_.assign(static_cast<std::size_t>(ranks_), 0);
+  bool any = false;
+  for (int r = 1; r < ranks_; ++r) any = any || prestarts(r);
+  if (!any) return;
+  work_before_prestart_ = work_since_start();
+  order_before_prestart_ = order_;
+  prestart_placed_ = assign(setups, &work_before_prestart_);
+  prestart_setups_ = setups;
+  // gamma travels with the rollout's broadcasts' command instead; the places are fixed now.
+  for (int r = 1; r < ranks_; ++r) {
+    if (!prestarts(r)) continue;
+    send_share(r, kPrestart, 0, prestart_placed_, 0.0);
+    rank_prestarted_[static_cast<std::size_t>(r)] = 1;
+  }
+}
+
 core::ShareRollout MpiEnvPool::rollout(const std::vector<core::EpisodeSetup>& setups, const rl::ActorCritic& model,
                                        const std::vector<Eigen::MatrixXd>& normals, double gamma) {
-  const std::vector<core::EpisodeSetup> placed = assign(setups);
+  const bool early = !prestart_setups_.empty();
+  if (early && prestart_setups_ != setups)
+    throw std::invalid_argument("MpiEnvPool::rollout: other setups than the prestart's");
+  const std::vector<core::EpisodeSetup> placed = early ? prestart_placed_ : assign(setups);
+  prestart_setups_.clear();
+  prestart_placed_.clear();
+  if (!early) rank_prestarted_.assign(static_cast<std::size_t>(ranks_), 0);
+  if (early) ++prestarted_rollouts_;
   const int n_steps = static_cast<int>(normals.size());
   const std::size_t d = spec().observation.dim(), a = spec().action.dim();
   const auto places_of = [&](const EnvSlice& sl) {
@@ -410,12 +459,12 @@ core::ShareRollout MpiEnvPool::rollout(const std::vector<core::EpisodeSetup>& se
                                     order_.begin() + static_cast<std::ptrdiff_t>(sl.first + sl.count));
   };
   for (int r = 1; r < ranks_; ++r) {
-    send_command(r, kRollout, n_steps);
-    send_doubles(pack_setups(placed, slices_[r].first, slices_[r].count), r, kTagPayload);
-    std::vector<double> where{gamma, static_cast<double>(n_envs_)};
-    for (std::size_t p : places_of(slices_[r])) where.push_back(static_cast<double>(p));
-    send_doubles(where, r, kTagPayload);
-    send_meshes_to(r);
+    if (rank_prestarted_[static_cast<std::size_t>(r)]) {
+      send_command(r, kRollout, -n_steps);
+      send_doubles({gamma}, r, kTagPayload);
+    } else {
+      send_share(r, kRollout, n_steps, placed, gamma);
+    }
   }
   if (ranks_ > 1) {
     std::vector<float> params = pack_policy(model);
@@ -510,6 +559,11 @@ void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model, const Le
   use_own_threads(local, lending, "serve_env_pool");
   double lent_s = 0.0;  // wall seconds of whole rollouts stepped on lent threads
   rl::ActorCritic::InferenceCache cache;
+  struct Started {  // a share started by kPrestart: its first observations and its places
+    bool ready = false;
+    Eigen::MatrixXd obs;
+    std::vector<double> where;
+  } started;
   for (;;) {
     int header[2] = {0, 0};
     recv_into(header, 2, MPI_INT, 0, kTagCommand, MPI_STATUS_IGNORE, "receive a command");
@@ -538,14 +592,32 @@ void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model, const Le
               "send the end reasons");
         break;
       }
-      case kRollout: {
-        const int n_steps = header[1];
+      case kPrestart: {
+        if (!model) throw std::runtime_error("MPI rollout backend: a whole rollout asked of a rank without a feed-forward model");
         const std::vector<core::EpisodeSetup> setups = unpack_setups(recv_doubles(n * kSetupFields, 0, kTagPayload));
-        const std::vector<double> where = recv_doubles(2 + n, 0, kTagPayload);
+        started.where = recv_doubles(2 + n, 0, kTagPayload);
+        adopt_meshes(local.simulators(), recv_meshes(0));
+        started.obs = local.start(setups);
+        started.ready = true;
+        break;
+      }
+      case kRollout: {
+        const bool early = header[1] < 0;
+        const int n_steps = early ? -header[1] : header[1];
+        if (early && !started.ready) throw std::runtime_error("MPI rollout backend: a rollout of a share not started");
+        std::vector<core::EpisodeSetup> setups;
+        std::vector<double> where;
+        if (early) {
+          where = std::move(started.where);
+          where[0] = recv_doubles(1, 0, kTagPayload)[0];
+        } else {
+          setups = unpack_setups(recv_doubles(n * kSetupFields, 0, kTagPayload));
+          where = recv_doubles(2 + n, 0, kTagPayload);
+        }
         const auto width = static_cast<std::size_t>(where[1]);
         std::vector<std::size_t> places;
         for (std::size_t j = 0; j < n; ++j) places.push_back(static_cast<std::size_t>(where[2 + j]));
-        adopt_meshes(local.simulators(), recv_meshes(0));
+        if (!early) adopt_meshes(local.simulators(), recv_meshes(0));
         if (!model) throw std::runtime_error("MPI rollout backend: a whole rollout asked of a rank without a feed-forward model");
         std::vector<float> params(policy_size(*model));
         check(MPI_Bcast(params.data(), static_cast<int>(params.size()), MPI_FLOAT, 0, MPI_COMM_WORLD), "receive the policy");
@@ -558,7 +630,11 @@ void serve_env_pool(core::ThreadEnvPool& local, rl::ActorCritic* model, const Le
           normals.emplace_back(Eigen::Map<const Eigen::MatrixXd>(z.data() + static_cast<std::size_t>(k) * a * width,
                                                                  static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(width)));
         LendingRound lend(local, lending);
-        const PackedShare p = pack_share(core::run_share(local, setups, *model, cache, places, width, normals, where[0]));
+        const PackedShare p =
+            pack_share(early ? core::run_started_share(local, std::move(started.obs), *model, cache, places, width,
+                                                       normals, where[0])
+                             : core::run_share(local, setups, *model, cache, places, width, normals, where[0]));
+        started.ready = false;
         lend.done();
         // Rank 0 may still be stepping its share, on this rank's core too: wait for it asleep.
         send_without_spinning(p.floats.data(), p.floats.size(), MPI_FLOAT, 0, kTagReply, "send the rollout");

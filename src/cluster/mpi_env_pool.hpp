@@ -20,6 +20,10 @@
 //                   setups and places, then the policy's parameters and the rollout's normal draws
 //                   (two broadcasts); every rank, rank 0 included, runs its environments' whole
 //                   rollout and the ranks meet once, when each sends rank 0 its record.
+//   prestart(...):  (before rank 0's PPO update, OuterLoop) the next rollout's assignment, and its
+//                   setups and places to the ranks with idle cores meanwhile, which start their
+//                   environments at once; that rollout then sends those ranks only the
+//                   broadcasts. A start depends on its setup alone, so the results do not change.
 // Every environment owns its state, draws no random numbers and starts each iteration afresh
 // (env_pool.hpp), and doubles cross the wire bit for bit, so a run gives the same results on any
 // number of ranks and threads per rank, whichever rank steps which environment. Live telemetry of
@@ -59,7 +63,9 @@ class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
   double step_seconds() const override;
   double build_seconds() const override;
   void set_step_observer(std::size_t i, StepObserver observer, int every) override;
-  std::vector<double> work_since_start() const override;  // one exchange with every rank
+  // One exchange with every rank; between a prestart() and its rollout, the last rollout's work as
+  // read before the prestart (no exchange).
+  std::vector<double> work_since_start() const override;
   // The PPO update's threads: rank 0's rollout threads, or two threads of its own when rank 0 steps
   // its slice on one. The other ranks sleep through the update (serve_env_pool waits without
   // polling), so on a machine shared by the ranks the update still gets the actor and the critic
@@ -72,6 +78,16 @@ class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
   void set_run_ahead(bool on) { run_ahead_ = on; }
   core::ShareRollout rollout(const std::vector<core::EpisodeSetup>& setups, const rl::ActorCritic& model,
                              const std::vector<Eigen::MatrixXd>& normals, double gamma) override;
+  // Chooses the next rollout's assignment now and sends each rank that has idle cores during rank
+  // 0's update (prestarts()) its share's setups, places and meshes: it starts its environments
+  // (meshes, builds, settles) at once and waits for the rollout's draws. Rank 0's own share starts
+  // in the rollout, as do the shares of ranks on rank 0's machine when the update takes their cores
+  // (rank 0 with fewer than two threads of its own: the update runs the actor and the critic on two).
+  void prestart(const std::vector<core::EpisodeSetup>& setups) override;
+  // Whether rank r (1..) gets its setups before rank 0's update (see prestart()).
+  bool prestarts(int r) const;
+  // Rollouts whose shares some rank started before rank 0's update, so far.
+  int prestarted_rollouts() const { return prestarted_rollouts_; }
   // Rollouts run on the ranks so far (RunAhead::rollout), and the wall seconds rank 0 waited for
   // the other ranks' records after its own share was done.
   int rollouts() const { return rollouts_; }
@@ -101,11 +117,15 @@ class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
 
  private:
   std::array<double, 4> remote_seconds() const;  // settle, step, build CPU seconds, lent wall seconds: ranks 1..
-  void learn_costs();  // from the iteration just ended, into design_cost_
+  void learn_costs(const std::vector<double>& work);  // the iteration just ended's work_since_start(), into design_cost_
   void send_meshes_to(int r);       // mesh_sends_[r], after r's setups
+  // Rank r's share of `placed` (the places order_ holds), the batch's width and gamma, and its meshes.
+  void send_share(int r, int command, int flag, const std::vector<core::EpisodeSetup>& placed, double gamma);
   void receive_meshes_from(int r);  // after r's answer: the meshes r made, built here too
   // The assignment of a start (learn_costs, assign_by_cost into order_): the setups in place order.
-  std::vector<core::EpisodeSetup> assign(const std::vector<core::EpisodeSetup>& setups);
+  // `work`: the last iteration's work_since_start() if already read (else read here).
+  std::vector<core::EpisodeSetup> assign(const std::vector<core::EpisodeSetup>& setups,
+                                         const std::vector<double>* work = nullptr);
 
   std::unique_ptr<core::ThreadEnvPool> local_;
   std::unique_ptr<rl::ThreadPool> update_pool_;  // null when local_ has two threads or more
@@ -126,6 +146,15 @@ class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
   bool run_ahead_ = true;
   std::vector<std::vector<int>> mesh_sends_;  // per rank: the designs whose meshes go with its next setups
   Lending lending_;
+  // The setups of the last prestart() (the caller's order) and their placed order, until the
+  // rollout that uses them; which ranks were sent theirs.
+  std::vector<core::EpisodeSetup> prestart_setups_, prestart_placed_;
+  std::vector<char> rank_prestarted_;
+  // While a prestart waits for its rollout: the last rollout's work and assignment (what
+  // work_since_start() and imbalance() report then).
+  std::vector<double> work_before_prestart_;
+  std::vector<std::size_t> order_before_prestart_;
+  int prestarted_rollouts_ = 0;
   int starts_ = 0, reassigned_ = 0, rollouts_ = 0, meshes_sent_ = 0, meshes_received_ = 0;
   double start_wait_s_ = 0.0, step_wait_s_ = 0.0, rollout_wait_s_ = 0.0, lent_s_ = 0.0;
   rl::ActorCritic::InferenceCache cache_;  // rank 0's forward passes in rollout()

@@ -1,5 +1,6 @@
 #include "cluster/scaling_model.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "cluster/env_assignment.hpp"
@@ -18,14 +19,14 @@ double iteration_seconds(const ScalingCosts& c, int ranks) {
   if (c.threads_per_rank < 1) throw std::invalid_argument("iteration_seconds: threads_per_rank < 1");
   if (c.env_collect_s < 0 || c.exchange_s < 0 || c.update_s < 0 || c.policy_s < 0 || c.distribution_s < 0 ||
       c.exchanges < 0 || !(c.collect_factor >= 0.0) || !(c.update_minibatches >= 0.0) ||
-      !(c.gradient_transfer_s >= 0.0) || !(c.update_share_cost >= 0.0))
+      !(c.gradient_transfer_s >= 0.0) || !(c.update_share_cost >= 0.0) || !(c.prestart_s >= 0.0))
     throw std::invalid_argument("iteration_seconds: a negative cost");
   const double rounds = static_cast<double>(collection_rounds(c.environments, ranks, c.threads_per_rank));
   const double collect = c.collect_factor * rounds * c.env_collect_s + (ranks - 1) * c.exchanges * c.exchange_s;
   const double gradient_messages =
       c.update_minibatches * 2.0 * static_cast<double>(ranks - 1) / ranks * c.gradient_transfer_s;
   const double update = c.update_spread ? c.update_share_cost * c.update_s / ranks + gradient_messages : c.update_s;
-  return collect + update + c.policy_s + c.distribution_s;
+  return collect + std::max(update, ranks > 1 ? c.prestart_s : 0.0) + c.policy_s + c.distribution_s;
 }
 
 }  // namespace codesign::cluster

@@ -45,6 +45,10 @@ struct ScalingCosts {
   double gradient_transfer_s = 0.0;  // y: one gradient from one rank to another (update_spread)
   double update_share_cost = 1.0;    // e: a share's compute, N shares over the whole (update_spread)
   double collect_factor = 1.0;       // F (see above)
+  // Wall seconds the ranks other than rank 0 spend starting their next environments (the settles)
+  // while rank 0 runs the update (MpiEnvPool::prestart); the update's term becomes max(it, this).
+  // collect_factor then holds F without those starts. 0: no starts before the update.
+  double prestart_s = 0.0;
 };
 
 // ⌈⌈environments/ranks⌉ / threads⌉: the rounds of one environment each that the busiest rank's

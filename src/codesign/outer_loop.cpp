@@ -112,7 +112,7 @@ rl::PolicyFileContents OuterLoop::policy_contents() const {
   return c;
 }
 
-std::vector<DesignSample> OuterLoop::sample_designs(std::vector<EpisodeSetup>& setups) {
+std::vector<DesignSample> OuterLoop::sample_designs(int k, std::vector<EpisodeSetup>& setups) {
   const CodesignConfig& c = config_.codesign;
   std::vector<DesignSample> samples;
   setups.clear();
@@ -122,7 +122,7 @@ std::vector<DesignSample> OuterLoop::sample_designs(std::vector<EpisodeSetup>& s
     const double u = design_rng_.uniform();
     const double phase = c.random_plate_phase ? 2.0 * std::numbers::pi * u : c.plate_phase_rad;
     setups.push_back({d.design, d.pressures_kPa[0], d.pressures_kPa[1], phase, 0.0,
-                      config_.task.faults.fault_for(k_, i, envs_->size())});
+                      config_.task.faults.fault_for(k, i, envs_->size())});
     samples.push_back(d);
   }
   return samples;
@@ -134,7 +134,13 @@ IterationReport OuterLoop::iterate() {
   rep.phase = distribution_.phase(t_);
   const auto t_collect = std::chrono::steady_clock::now();
   std::vector<EpisodeSetup> setups;
-  rep.samples = sample_designs(setups);
+  if (next_) {
+    rep.samples = std::move(next_->samples);
+    setups = std::move(next_->setups);
+    next_.reset();
+  } else {
+    rep.samples = sample_designs(k_, setups);
+  }
   const auto n = static_cast<Eigen::Index>(envs_->size());
   std::vector<double> running(n, 0.0);
   std::vector<int> length(n, 0);
@@ -201,6 +207,26 @@ IterationReport OuterLoop::iterate() {
   t_ += static_cast<std::int64_t>(n) * config_.ppo.n_steps;
   rep.collect_s = seconds_since(t_collect);
 
+  // Algorithm 2 before the PPO update: it reads the returns alone, and the update does not read
+  // the distribution, so the order changes no number.
+  const auto t_dist = std::chrono::steady_clock::now();
+  rep.returns.assign(static_cast<std::size_t>(n), 0.0);
+  for (const EpisodeRecord& e : rep.episodes)
+    if (e.first) rep.returns[static_cast<std::size_t>(e.env)] = e.episode_return;
+  if (config_.codesign.baseline != Baseline::SingleDesign) distribution_.update(rep.samples, rep.returns, t_);
+  rep.distribution_s = seconds_since(t_dist);
+  if (run_ahead && whole_rollouts_allowed(config_) && !finished()) {
+    // The next iteration's designs, drawn as its iterate() would draw them, started on the ranks
+    // during the update below (counted as collection).
+    const auto t_next = std::chrono::steady_clock::now();
+    NextDesigns next;
+    next.rng_before = design_rng_.save();
+    next.samples = sample_designs(k_ + 1, next.setups);
+    run_ahead->prestart(next.setups);
+    next_ = std::move(next);
+    rep.collect_s += seconds_since(t_next);
+  }
+
   const auto t_update = std::chrono::steady_clock::now();
   // The rollout's threads are idle now: the update runs the actor and the critic side by side on
   // them (bit-identical to one thread).
@@ -211,13 +237,6 @@ IterationReport OuterLoop::iterate() {
                                         /*defer_optimizer_step=*/true, pool);
   rep.learning_rate = rl::learning_rate_at(config_.ppo, t_);
   rep.update_s = seconds_since(t_update);
-
-  const auto t_dist = std::chrono::steady_clock::now();
-  rep.returns.assign(static_cast<std::size_t>(n), 0.0);
-  for (const EpisodeRecord& e : rep.episodes)
-    if (e.first) rep.returns[static_cast<std::size_t>(e.env)] = e.episode_return;
-  if (config_.codesign.baseline != Baseline::SingleDesign) distribution_.update(rep.samples, rep.returns, t_);
-  rep.distribution_s = seconds_since(t_dist);
   rep.beta = distribution_.beta(t_);
   rep.t = t_;
   ++k_;
@@ -246,7 +265,7 @@ LoopState OuterLoop::state() const {
   }
   s.rng_act = act_rng_.save();
   s.rng_update = update_rng_.save();
-  s.rng_design = design_rng_.save();
+  s.rng_design = next_ ? next_->rng_before : design_rng_.save();
   s.distribution = distribution_.state();
   if (obs_stats_) {
     s.obs_mean = obs_stats_->mean;
@@ -304,6 +323,7 @@ void OuterLoop::restore(const LoopState& s) {
   act_rng_ = a;
   update_rng_ = u;
   design_rng_ = d;
+  next_.reset();
   distribution_ = std::move(dist);
   if (obs_stats_) {
     obs_stats_->mean = s.obs_mean;

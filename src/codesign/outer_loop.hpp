@@ -13,6 +13,9 @@
 //      rl::recurrent_ppo_update over whole environment columns, each one episode from reset);
 //   4. the return of each environment's first episode, R_{d_i}, feeds Algorithm 2;
 //   5. t += ψ · n_steps, k += 1.
+// Steps 3 and 4 share no state, so 4 runs first: with whole rollouts on MPI ranks the next
+// iteration's designs are then drawn before the update (same stream, same order) and the ranks
+// start them while rank 0 updates (RunAhead::prestart).
 // The run ends when t ≥ total_timesteps. Everything that defines the future of the loop is in
 // LoopState (a checkpoint holds it): restoring it and iterating gives bit-identical results.
 //
@@ -144,7 +147,17 @@ class OuterLoop {
   void set_memory_observer(MemoryObserver observer) { memory_observer_ = std::move(observer); }
 
  private:
-  std::vector<DesignSample> sample_designs(std::vector<EpisodeSetup>& setups);
+  // Iteration k's designs and setups (plate phases, faults), from design_rng_.
+  std::vector<DesignSample> sample_designs(int k, std::vector<EpisodeSetup>& setups);
+  // The next iteration's designs when they were drawn before this iteration's PPO update, for the
+  // pool to start them during it (RunAhead::prestart); design_rng_'s state before that draw, which
+  // state() saves, so a resumed run draws them again.
+  struct NextDesigns {
+    std::vector<DesignSample> samples;
+    std::vector<EpisodeSetup> setups;
+    std::string rng_before;
+  };
+  std::optional<NextDesigns> next_;
 
   LoopConfig config_;
   std::unique_ptr<EnvPool> envs_;

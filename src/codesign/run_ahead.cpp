@@ -29,9 +29,17 @@ ShareRollout empty_share(int n_steps, std::size_t n, std::size_t obs_dim, std::s
 ShareRollout run_share(EnvPool& pool, const std::vector<EpisodeSetup>& setups, const rl::ActorCritic& model,
                        rl::ActorCritic::InferenceCache& cache, const std::vector<std::size_t>& places,
                        std::size_t width, const std::vector<Eigen::MatrixXd>& normals, double gamma) {
+  if (setups.size() != pool.size()) throw std::invalid_argument("run_share: one setup per environment of the pool");
+  return run_started_share(pool, pool.start(setups), model, cache, places, width, normals, gamma);
+}
+
+ShareRollout run_started_share(EnvPool& pool, Eigen::MatrixXd obs, const rl::ActorCritic& model,
+                               rl::ActorCritic::InferenceCache& cache, const std::vector<std::size_t>& places,
+                               std::size_t width, const std::vector<Eigen::MatrixXd>& normals, double gamma) {
   const std::size_t n = pool.size(), d = pool.spec().observation.dim(), a = pool.spec().action.dim();
-  if (setups.size() != n || places.size() != n)
-    throw std::invalid_argument("run_share: one setup and one place per environment of the pool");
+  if (places.size() != n) throw std::invalid_argument("run_share: one place per environment of the pool");
+  if (obs.rows() != static_cast<Eigen::Index>(d) || obs.cols() != static_cast<Eigen::Index>(n))
+    throw std::invalid_argument("run_share: the first observations must be obs_dim x environments");
   for (std::size_t p : places)
     if (p >= width) throw std::invalid_argument("run_share: a place beyond the batch's width");
   for (const Eigen::MatrixXd& z : normals)
@@ -43,7 +51,6 @@ ShareRollout run_share(EnvPool& pool, const std::vector<EpisodeSetup>& setups, c
   const auto col = [](std::size_t j) { return static_cast<Eigen::Index>(j); };
   // The ψ-wide batch the one-process rollout would compute, this share's columns at their places.
   Eigen::MatrixXf batch = Eigen::MatrixXf::Zero(static_cast<Eigen::Index>(d), static_cast<Eigen::Index>(width));
-  Eigen::MatrixXd obs = pool.start(setups);
   for (int k = 0; k < n_steps; ++k) {
     RolloutStepColumns& rec = out.steps[static_cast<std::size_t>(k)];
     rec.obs = obs.cast<float>();

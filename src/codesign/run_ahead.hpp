@@ -62,6 +62,11 @@ ShareRollout run_share(EnvPool& pool, const std::vector<EpisodeSetup>& setups, c
                        rl::ActorCritic::InferenceCache& cache, const std::vector<std::size_t>& places,
                        std::size_t width, const std::vector<Eigen::MatrixXd>& normals, double gamma);
 
+// run_share after the pool's start(): `obs` its first observations (obs_dim x size()).
+ShareRollout run_started_share(EnvPool& pool, Eigen::MatrixXd obs, const rl::ActorCritic& model,
+                               rl::ActorCritic::InferenceCache& cache, const std::vector<std::size_t>& places,
+                               std::size_t width, const std::vector<Eigen::MatrixXd>& normals, double gamma);
+
 // Copies `share` (environments in the share's order) into columns places[j] of `into`.
 void place_share(const ShareRollout& share, const std::vector<std::size_t>& places, ShareRollout& into);
 
@@ -78,6 +83,11 @@ class RunAhead {
   // environment, in the environments' order.
   virtual ShareRollout rollout(const std::vector<EpisodeSetup>& setups, const rl::ActorCritic& model,
                                const std::vector<Eigen::MatrixXd>& normals, double gamma) = 0;
+  // The next rollout's setups, known before the caller's PPO update: the pool may start
+  // environments with them meanwhile where it has idle cores (a start draws nothing and depends on
+  // the setup alone: env_pool.hpp). The next rollout() must get the same setups (else
+  // std::invalid_argument). Default: nothing starts early.
+  virtual void prestart(const std::vector<EpisodeSetup>& setups) { (void)setups; }
 };
 
 }  // namespace codesign::core

@@ -70,7 +70,9 @@ std::string rollout_sharing_note(core::EnvPool& pool) {
          " iterations' starts (contiguous slices at the others: the first, and any where the costs gave that split); "
          "each rank ran its environments' whole rollout, meeting the others once, in " +
          std::to_string(mpi->rollouts()) + " of them (the others step by step, meeting at every decision: "
-         "recurrent policies and observation statistics need that); designs' meshes: " +
+         "recurrent policies and observation statistics need that), the ranks with cores of their own during rank "
+         "0's PPO update starting their environments during it in " + std::to_string(mpi->prestarted_rollouts()) +
+         "; designs' meshes: " +
          std::to_string(mpi->meshes_received()) + " made on the other ranks and sent to rank 0, " +
          std::to_string(mpi->meshes_sent()) + " sent to a rank that had not built the design (built there from "
          "the mesh instead of meshing); the ranks stepped whole rollouts on threads lent by ranks of their machine "

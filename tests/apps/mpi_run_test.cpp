@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <thread>
+#include <utility>
 #include <vector>
 #include <filesystem>
 #include <fstream>
@@ -90,9 +91,15 @@ TEST(MpiRun, TwoAndThreeRanksWriteTheRunFolderOfOneProcess) {
     const fs::path one_dir = dir / (name + "_one");
     RunResult one = codesign::test::run_codesign(common + one_dir.string());
     ASSERT_EQ(one.status, 0) << one.output;
-    for (int ranks : statistics ? std::vector<int>{2} : std::vector<int>{2, 3}) {
-      const fs::path out = dir / (name + std::to_string(ranks));
-      const RunResult r = run_mpi(ranks, common + out.string());
+    // Launches of ranks x threads; 2 x 2 (rank 0's own threads hold the update's two) is the one
+    // whose other rank starts its environments during rank 0's update (MpiEnvPool::prestart).
+    const std::vector<std::pair<int, int>> launches =
+        statistics ? std::vector<std::pair<int, int>>{{2, 1}} : std::vector<std::pair<int, int>>{{2, 1}, {3, 1}, {2, 2}};
+    for (const auto& [ranks, threads] : launches) {
+      const fs::path out = dir / (name + std::to_string(ranks) + "x" + std::to_string(threads));
+      std::string args = common + out.string();
+      args.replace(args.find("--threads 1"), 11, "--threads " + std::to_string(threads));
+      const RunResult r = run_mpi(ranks, args);
       ASSERT_EQ(r.status, 0) << r.output;
       for (const char* f : {"policy.bin", "sampled.csv", "distribution.csv", "q_disc.csv", "episodes.csv"})
         EXPECT_EQ(slurp(out / f), slurp(one_dir / f)) << f << " on " << ranks << " ranks, " << name;
@@ -113,6 +120,12 @@ TEST(MpiRun, TwoAndThreeRanksWriteTheRunFolderOfOneProcess) {
       const std::size_t at2 = r.output.find(ahead);
       ASSERT_NE(at2, std::string::npos) << r.output;
       EXPECT_EQ(std::stoi(r.output.substr(at2 + ahead.size())), statistics ? 0 : 12) << r.output;
+      // Started during the update: after each of the first 11 iterations (the 12th has no next),
+      // and only where rank 0 has two threads of its own.
+      const std::string early = "starting their environments during it in ";
+      const std::size_t at4 = r.output.find(early);
+      ASSERT_NE(at4, std::string::npos) << r.output;
+      EXPECT_EQ(std::stoi(r.output.substr(at4 + early.size())), !statistics && threads >= 2 ? 11 : 0) << r.output;
       // In the first iteration every rank meshes the designs it gets (rank 0 has none to send) and
       // sends rank 0 the meshes; how many reach a rank that had not built the design afterwards
       // depends on the costs measured, so only the first count is certain.
@@ -219,9 +232,14 @@ TEST(MpiRun, StoppedOrBrokenRunsResumeToTheUninterruptedRun) {
   const std::string common = "run --config " + (dir / "tiny.toml").string() + " --threads 1 --quiet --no-figures -o ";
   const RunResult ref = codesign::test::run_codesign(common + (dir / "ref").string());
   ASSERT_EQ(ref.status, 0) << ref.output;
+  // The ranks on two threads each: rank 1 starts each next iteration's environments during rank
+  // 0's update (MpiEnvPool::prestart), so every checkpoint is written with the next designs
+  // already drawn, and the resumed run must draw them again.
+  std::string ranks_common = common;
+  ranks_common.replace(ranks_common.find("--threads 1"), 11, "--threads 2");
   for (const std::string how : {"sigterm", "kill_rank1"}) {
     const fs::path out = dir / how;
-    const pid_t mpirun = spawn_mpi(mpi_command(2, common + out.string()), dir / (how + ".log"));
+    const pid_t mpirun = spawn_mpi(mpi_command(2, ranks_common + out.string()), dir / (how + ".log"));
     // Rank 0 drives the training. It is held (SIGSTOP) as soon as the first checkpoint is on
     // disk and let go only once the signal has reached it, so the stop always lands mid-training
     // (with a free-running rank 0 the rest of this short run can end first). Open MPI 4.1's
@@ -258,7 +276,7 @@ TEST(MpiRun, StoppedOrBrokenRunsResumeToTheUninterruptedRun) {
       EXPECT_NE(log.find("rank 1"), std::string::npos) << log;  // mpirun names the rank that died
     }
     EXPECT_FALSE(fs::exists(out / "result.toml")) << how << ": the run ended before the signal\n" << log;
-    const RunResult resumed = run_mpi(2, common + out.string() + " --resume");
+    const RunResult resumed = run_mpi(2, ranks_common + out.string() + " --resume");
     ASSERT_EQ(resumed.status, 0) << how << "\n" << resumed.output;
     for (const char* f : {"policy.bin", "sampled.csv", "distribution.csv", "q_disc.csv", "episodes.csv"})
       EXPECT_EQ(slurp(out / f), slurp(dir / "ref" / f)) << f << " after " << how;

@@ -88,6 +88,14 @@ TEST(MeetingLoad, EqualProfilesGiveOne) {
       // The busiest rank's busiest thread holds `rounds` environments at every point, the start
       // included: rounds · 0.5 over rounds · 1.1.
       EXPECT_NEAR(m.start, 0.5 / 1.1, 1e-12) << ranks << " ranks, " << threads << " threads";
+      // Starts before the update: rank 0 (a largest slice) still carries its rounds' starts, so
+      // the iteration's end is unchanged; the other ranks' starts take their busiest's rounds ·
+      // 0.5: the rounds of rank 0 for every split tried (40 = 2·20, 8·3 + 8·2; 14+13+13 on 2 or 3
+      // threads) but 13 of rank 0's 14 for 3 ranks of one thread.
+      EXPECT_NEAR(m.prestarted, 1.0, 1e-12) << ranks << " ranks, " << threads << " threads";
+      const double rounds_ratio = ranks == 3 && threads == 1 ? 13.0 / 14.0 : 1.0;
+      EXPECT_NEAR(m.prestart, ranks == 1 ? 0.0 : rounds_ratio * 0.5 / 1.1, 1e-12)
+          << ranks << " ranks, " << threads << " threads";
     }
 }
 
@@ -124,6 +132,12 @@ TEST(MeetingLoad, TheStartsShareMatchesTheEnumeration) {
   EXPECT_NEAR(m.lockstep, 7.0 / 6.0, 0.007);
   EXPECT_NEAR(m.run_ahead, 7.0 / 6.0, 0.007);
   EXPECT_NEAR(m.lockstep - m.start, 1.0 / 3.0, 1e-12);  // every draw's decision takes exactly 1
+  // Rank 1 started before the update: its iteration is its decision's 1, rank 0's its whole total
+  // (2 or 4, whichever design it drew, probability 1/2 each): prestarted = E[max(total, 1)] / 3 =
+  // 3 / 3; rank 1's start, 1 or 3, gives prestart = 2 / 3. Tolerance as above (each a two-point
+  // variable of standard deviation 1).
+  EXPECT_NEAR(m.prestarted, 1.0, 0.007);
+  EXPECT_NEAR(m.prestart, 2.0 / 3.0, 0.007);
 }
 
 // 60 profiles of 11 points, costs uniform in [0, 1), of 10 designs (6 samples each).

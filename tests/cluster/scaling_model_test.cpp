@@ -91,6 +91,20 @@ TEST(ScalingModel, TheBusiestRanksFactorScalesOnlyTheCollectionRounds) {
   EXPECT_THROW(iteration_seconds(c, 2), std::invalid_argument);
 }
 
+// The ranks' starts during rank 0's update: they cost the iteration only where they outlast the
+// update, and nothing on one rank (which has no other rank to start early).
+TEST(ScalingModel, StartsDuringTheUpdateCostOnlyWhatOutlastsIt) {
+  ScalingCosts c = paper_like();
+  const double plain = iteration_seconds(c, 16);
+  c.prestart_s = 0.2;  // under the update's 0.3 s
+  EXPECT_DOUBLE_EQ(iteration_seconds(c, 16), plain);
+  c.prestart_s = 0.45;  // 0.15 s over it
+  EXPECT_NEAR(iteration_seconds(c, 16), plain + 0.15, 1e-12);
+  EXPECT_DOUBLE_EQ(iteration_seconds(c, 1), iteration_seconds(paper_like(), 1));
+  c.prestart_s = -0.1;
+  EXPECT_THROW(iteration_seconds(c, 16), std::invalid_argument);
+}
+
 TEST(ScalingModel, NeverFasterThanItsSerialPartAndRefusesBadInput) {
   const ScalingCosts c = paper_like();
   for (int n = 1; n <= 40; ++n) {
