@@ -184,6 +184,9 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
                     double iterations_total, int launch_threads, bool whole_rollouts, const BenchClusterOptions& o) {
   const std::size_t psi = c.environments;
   const std::uint64_t seed = 20261205;
+  double mean_total = 0.0;  // an environment's iteration, the samples' mean (meeting_load_factor's unit)
+  for (const cluster::DecisionCosts& d : samples)
+    for (double x : d.seconds) mean_total += x / static_cast<double>(samples.size());
   const cluster::MeetingLoad own = cluster::meeting_load_factor(samples, psi, 1, launch_threads, o.spread_draws, seed);
   std::printf("bench cluster: the meeting at every decision (cluster/cost_spread.hpp), from %zu environment "
               "iterations of %zu decision costs each (every iteration above): L = the collection over the model's "
@@ -222,17 +225,24 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
                 iterations_total * cluster::iteration_seconds(end, r) / 60.0);
     // The ranks' starts run while rank 0 updates (MpiEnvPool::prestart, as built for whole
     // rollouts; simulated for every rank but 0, as on ranks of other machines or of t >= 2 threads):
-    // F without them, and their wall beside the update (the same normalisation as L).
-    cluster::ScalingCosts pre = end;
-    pre.collect_factor = m.prestarted / own.lockstep;
-    pre.prestart_s = m.prestart / own.lockstep *
-                     static_cast<double>(cluster::collection_rounds(psi, r, c.threads_per_rank)) * c.env_collect_s;
+    // the collection from the update's end, a rank's start beyond the update counted on that rank
+    // (this launch's update, in the samples' seconds: u · mean · L_1 / c); and the bound that
+    // cluster_projection.sh takes per iteration of a run: the starts hidden (F) plus what the
+    // slowest rank's starts (P) outlast the update.
+    const cluster::MeetingLoad mu = cluster::meeting_load_factor(
+        samples, psi, r, c.threads_per_rank, o.spread_draws, seed,
+        c.env_collect_s > 0.0 ? c.update_s * mean_total * own.lockstep / c.env_collect_s : 0.0);
+    cluster::ScalingCosts pre = end, bound = end;
+    pre.collect_factor = mu.after_update / own.lockstep;
+    bound.collect_factor = m.prestarted / own.lockstep;
+    bound.prestart_s = m.prestart / own.lockstep *
+                       static_cast<double>(cluster::collection_rounds(psi, r, c.threads_per_rank)) * c.env_collect_s;
     const double run_pre = iterations_total * cluster::iteration_seconds(pre, r) / 60.0;
     if (r > 1)
-      std::printf("        | the ranks' starts during rank 0's update: L = %.3f, the starts %.3f s beside an update of %.3f s: "
-                  "run %.1f min (scripts/cluster_projection.sh: F = %.3f, P = %.3f)\n",
-                  m.prestarted, pre.prestart_s, c.update_s, run_pre, m.prestarted / own.lockstep,
-                  m.prestart / own.lockstep);
+      std::printf("        | the ranks' starts during rank 0's update (%.3f s): L = %.3f after it, run %.1f min; bound: the "
+                  "slowest rank's starts %.3f s, F = %.3f, P = %.3f (scripts/cluster_projection.sh), run %.1f min\n",
+                  c.update_s, mu.after_update, run_pre, bound.prestart_s, m.prestarted / own.lockstep,
+                  m.prestart / own.lockstep, iterations_total * cluster::iteration_seconds(bound, r) / 60.0);
     if (r == 16) {
       const double run16 = whole_rollouts ? run_pre : iterations_total * cluster::iteration_seconds(every, r) / 60.0;
       cluster::ScalingCosts at_floor = c;

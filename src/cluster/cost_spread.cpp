@@ -139,9 +139,10 @@ BusiestLoad busiest_load_factor(const std::vector<CostSample>& samples, std::siz
 }
 
 MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::size_t environments, int ranks,
-                                int threads, int draws, std::uint64_t seed) {
+                                int threads, int draws, std::uint64_t seed, double update) {
   if (samples.empty()) throw std::invalid_argument("meeting_load_factor: no cost samples");
   if (draws < 1) throw std::invalid_argument("meeting_load_factor: draws < 1");
+  if (!(update >= 0.0) || !std::isfinite(update)) throw std::invalid_argument("meeting_load_factor: a negative update");
   const std::size_t points = samples.front().seconds.size();
   if (points == 0) throw std::invalid_argument("meeting_load_factor: an empty profile");
   std::vector<double> total(samples.size(), 0.0);
@@ -170,7 +171,7 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
   std::vector<double> slowest(points);          // per point: the slowest rank's time
   std::vector<double> rank_start(slices.size());  // per rank: its time at point 0
   double sum_lockstep = 0.0, sum_run_ahead = 0.0, sum_start = 0.0, sum_floor = 0.0, sum_prestarted = 0.0,
-         sum_prestart = 0.0;
+         sum_prestart = 0.0, sum_after = 0.0;
   for (int d = 0; d < draws; ++d) {
     for (std::size_t i = 0; i < environments; ++i) {
       const std::size_t s = pick(samples.size());
@@ -207,18 +208,21 @@ MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::
     sum_start += slowest.front();
     sum_run_ahead += *std::max_element(rank_sum.begin(), rank_sum.end());
     sum_floor += floor_here;
-    double prestarted = rank_sum.front(), prestart = 0.0;
+    double prestarted = rank_sum.front(), prestart = 0.0, after = rank_sum.front();
     for (std::size_t r = 1; r < slices.size(); ++r) {
-      prestarted = std::max(prestarted, rank_sum[r] - rank_start[r]);
+      const double rest = rank_sum[r] - rank_start[r];
+      prestarted = std::max(prestarted, rest);
       prestart = std::max(prestart, rank_start[r]);
+      after = std::max(after, std::max(0.0, rank_start[r] - update) + rest);
     }
     sum_prestarted += prestarted;
     sum_prestart += prestart;
+    sum_after += after;
   }
   const double norm = static_cast<double>(draws) * rounds * mean;
   if (norm <= 0.0) return {};
   return {sum_lockstep / norm, sum_run_ahead / norm, sum_start / norm, sum_floor / norm, sum_prestarted / norm,
-          sum_prestart / norm};
+          sum_prestart / norm, sum_after / norm};
 }
 
 }  // namespace codesign::cluster

@@ -76,10 +76,14 @@ struct DecisionCosts {
 // floor: E[max over ranks of max(its costliest environment's iteration total, its environments'
 // totals summed / threads)], the same normalisation: what no order of a rank's jobs on its threads
 // can beat, since an environment's decisions follow one another (floor <= run_ahead for any costs).
-// prestarted: as run_ahead, but ranks 1.. have run their start (point 0) before the iteration, while
-// rank 0 ran the previous iteration's update (MpiEnvPool::prestart): max(rank 0's Σ_k, max over the
-// other ranks of Σ_{k≥1}); prestart: E[max over ranks 1.. of their time at point 0], what the
-// update must cover for that. One rank: prestarted == run_ahead, prestart == 0.
+// Ranks 1.. starting their environments (point 0) while rank 0 runs the update (MpiEnvPool::prestart),
+// rank 0 starting its own after it: from the update's end, rank 0 takes its Σ_k and rank r ≥ 1
+// takes max(0, its start − update) + Σ_{k≥1}. after_update: E[the largest of these], with `update`
+// (in the samples' seconds) as given; update 0 gives run_ahead. prestarted: the same with the
+// starts entirely hidden (update beyond every start): max(rank 0's Σ_k, max over r ≥ 1 of
+// Σ_{k≥1}). prestart: E[max over r ≥ 1 of its start]. With P = prestart, prestarted +
+// max(0, P − update) ≥ after_update: the bound scaling_model's prestart_s gives. One rank:
+// prestarted == after_update == run_ahead, prestart == 0.
 struct MeetingLoad {
   double lockstep = 1.0;
   double run_ahead = 1.0;
@@ -87,8 +91,9 @@ struct MeetingLoad {
   double floor = 1.0;
   double prestarted = 1.0;
   double prestart = 0.0;
+  double after_update = 1.0;
 };
 MeetingLoad meeting_load_factor(const std::vector<DecisionCosts>& samples, std::size_t environments, int ranks,
-                                int threads, int draws, std::uint64_t seed);
+                                int threads, int draws, std::uint64_t seed, double update = 0.0);
 
 }  // namespace codesign::cluster

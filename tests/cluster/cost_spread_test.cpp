@@ -138,6 +138,14 @@ TEST(MeetingLoad, TheStartsShareMatchesTheEnumeration) {
   // variable of standard deviation 1).
   EXPECT_NEAR(m.prestarted, 1.0, 0.007);
   EXPECT_NEAR(m.prestart, 2.0 / 3.0, 0.007);
+  // With the update given: none (0) leaves rank 1 its whole total, as meeting at the end; an
+  // update of 1 hides A's start and 1 of B's 3, so rank 1 takes 1 or 3 after it against rank 0's
+  // 2 or 4: E[max] = (2 + 3 + 4 + 4) / 4 = 13/4, over 3; one beyond every start hides them all.
+  EXPECT_NEAR(m.after_update, m.run_ahead, 1e-12);
+  EXPECT_NEAR(meeting_load_factor(two, 2, 2, 1, 40000, 20261206, 1.0).after_update, 13.0 / 12.0, 0.007);
+  const MeetingLoad hidden = meeting_load_factor(two, 2, 2, 1, 40000, 20261206, 5.0);
+  EXPECT_DOUBLE_EQ(hidden.after_update, hidden.prestarted);
+  EXPECT_THROW(meeting_load_factor(two, 2, 2, 1, 10, 1, -1.0), std::invalid_argument);
 }
 
 // 60 profiles of 11 points, costs uniform in [0, 1), of 10 designs (6 samples each).
