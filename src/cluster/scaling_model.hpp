@@ -28,6 +28,7 @@
 // (update_share_cost, 1 by default) is the measured time of the busiest rank's share of a
 // minibatch's gradient times N over the whole minibatch's, set for the N at hand.
 #include <cstddef>
+#include <vector>
 
 namespace codesign::cluster {
 
@@ -58,5 +59,21 @@ std::size_t collection_rounds(std::size_t environments, int ranks, int threads);
 // Seconds per iteration on `ranks` ranks (1 ≤ ranks ≤ environments; std::invalid_argument
 // otherwise, or for threads_per_rank < 1 or a negative cost).
 double iteration_seconds(const ScalingCosts& c, int ranks);
+
+// One iteration of a finished one-process run (its ppo.csv row): wall seconds of the collection
+// (policy inference included), of the policy inference, and of the PPO update.
+struct RunIteration {
+  double collect_s = 0.0, policy_s = 0.0, update_s = 0.0;
+};
+
+// A whole run of `run_threads` threads, projected iteration by iteration to `ranks` ranks of
+// `threads` threads (scripts/cluster_projection.sh's arithmetic): with s = rounds(ranks, threads) /
+// rounds(1, run_threads) · (collect − policy), each iteration takes F · s + policy + update, the
+// update's term max(update, P · s) on more than one rank (P: the slowest rank's starts during the
+// update, 0: none; F then the collection without them). Messages are left out. Seconds of the
+// run; std::invalid_argument for no iterations, a negative or non-finite figure, or what
+// collection_rounds refuses.
+double projected_run_seconds(const std::vector<RunIteration>& run, std::size_t environments, int run_threads,
+                             int ranks, int threads, double F, double P);
 
 }  // namespace codesign::cluster

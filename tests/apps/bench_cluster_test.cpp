@@ -31,4 +31,22 @@ TEST(BenchCluster, PricesTheRecurrentSpreadUpdateBySequences) {
   EXPECT_EQ(r.output.find("not measured: e = 1"), std::string::npos) << r.output;
 }
 
+// --from-run: a finished run's ppo.csv projected iteration by iteration (the arithmetic is
+// ScalingModel.AWholeRunIsProjectedIterationByIteration's); a folder without one is one message
+// naming the file, exit 2, before any iteration.
+TEST(BenchCluster, ProjectsAWholeRunFromItsPpoCsv) {
+  const std::filesystem::path dir = codesign::test::scratch_dir("codesign_bench_", "from_run");
+  std::ofstream(dir / "tiny.toml") << codesign::test::TinyRun::minimal().toml();
+  std::filesystem::create_directories(dir / "run");
+  std::ofstream(dir / "run" / "ppo.csv") << "k,collect_s,policy_s,update_s\n0,4.2,0.2,0.1\n1,2.2,0.2,0.5\n";
+  const std::string bench = "bench cluster --config " + (dir / "tiny.toml").string() + " --warmup 1 --iterations 1 --threads 2 --from-run ";
+  const codesign::test::RunResult r = codesign::test::run_codesign(bench + (dir / "run").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("fed with the whole run (2 iterations, --from-run): "), std::string::npos) << r.output;
+  const codesign::test::RunResult bad = codesign::test::run_codesign(bench + (dir / "none").string());
+  EXPECT_EQ(bad.status, 2) << bad.output;
+  EXPECT_NE(bad.output.find((dir / "none" / "ppo.csv").string()), std::string::npos) << bad.output;
+  EXPECT_EQ(bad.output.find("bench cluster: measured"), std::string::npos) << bad.output;
+}
+
 }  // namespace

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <stdexcept>
+#include <vector>
 
 #include "cluster/scaling_model.hpp"
 
@@ -103,6 +104,23 @@ TEST(ScalingModel, StartsDuringTheUpdateCostOnlyWhatOutlastsIt) {
   EXPECT_DOUBLE_EQ(iteration_seconds(c, 1), iteration_seconds(paper_like(), 1));
   c.prestart_s = -0.1;
   EXPECT_THROW(iteration_seconds(c, 16), std::invalid_argument);
+}
+
+// A whole run projected iteration by iteration: 40 environments, the run on 2 threads (20 rounds),
+// 16 ranks of 2 threads (2 rounds): each iteration's collection less its policy scales by 2/20.
+// Iteration 1: collect 4.2, policy 0.2, update 0.1 -> s = 0.4: 0.8 · 0.4 + 0.2 + max(0.1, 0.5 · 0.4)
+// = 0.72; iteration 2: 2.2, 0.2, 0.5 -> s = 0.2: 0.16 + 0.2 + max(0.5, 0.1) = 0.86. On one rank of
+// 2 threads (s = 4.0 and 2.0) P has no other rank: 3.2 + 0.3 + 1.6 + 0.7 = 5.8.
+TEST(ScalingModel, AWholeRunIsProjectedIterationByIteration) {
+  using codesign::cluster::projected_run_seconds;
+  using codesign::cluster::RunIteration;
+  const std::vector<RunIteration> run = {{4.2, 0.2, 0.1}, {2.2, 0.2, 0.5}};
+  EXPECT_NEAR(projected_run_seconds(run, 40, 2, 16, 2, 0.8, 0.5), 0.72 + 0.86, 1e-12);
+  EXPECT_NEAR(projected_run_seconds(run, 40, 2, 1, 2, 0.8, 0.5), 5.8, 1e-12);
+  EXPECT_THROW(projected_run_seconds({}, 40, 2, 16, 2, 1.0, 0.0), std::invalid_argument);
+  EXPECT_THROW(projected_run_seconds({{1.0, 0.1, -0.1}}, 40, 2, 16, 2, 1.0, 0.0), std::invalid_argument);
+  EXPECT_THROW(projected_run_seconds(run, 40, 2, 41, 2, 1.0, 0.0), std::invalid_argument);
+  EXPECT_THROW(projected_run_seconds(run, 40, 2, 16, 2, -1.0, 0.0), std::invalid_argument);
 }
 
 TEST(ScalingModel, NeverFasterThanItsSerialPartAndRefusesBadInput) {
