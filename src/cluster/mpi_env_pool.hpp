@@ -68,7 +68,8 @@ class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
   std::vector<double> work_since_start() const override;
   // The PPO update's threads: rank 0's rollout threads, or two threads of its own when rank 0 steps
   // its slice on one. The other ranks sleep through the update (serve_env_pool waits without
-  // polling), so on a machine shared by the ranks the update still gets the actor and the critic
+  // polling; those with cores of their own start the next rollout first: prestart()), so on a
+  // machine shared by the ranks the update still gets the actor and the critic
   // side by side, as with `--threads 2` in one process. Results do not change (env_pool.hpp).
   rl::ThreadPool* thread_pool() override { return update_pool_ ? update_pool_.get() : local_->thread_pool(); }
   int ranks() const { return ranks_; }
