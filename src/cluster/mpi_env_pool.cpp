@@ -426,7 +426,6 @@ void MpiEnvPool::send_share(int r, int command, int flag, const std::vector<core
 
 void MpiEnvPool::prestart(const std::vector<core::EpisodeSetup>& setups) {
   if (!prestart_setups_.empty()) throw std::logic_error("MpiEnvPool::prestart: the last prestart's rollout has not run");
-  rank_prestarted_.assign(static_cast<std::size_t>(ranks_), 0);
   bool any = false;
   for (int r = 1; r < ranks_; ++r) any = any || prestarts(r);
   if (!any) return;
@@ -435,11 +434,8 @@ void MpiEnvPool::prestart(const std::vector<core::EpisodeSetup>& setups) {
   prestart_placed_ = assign(setups, &work_before_prestart_);
   prestart_setups_ = setups;
   // gamma travels with the rollout's broadcasts' command instead; the places are fixed now.
-  for (int r = 1; r < ranks_; ++r) {
-    if (!prestarts(r)) continue;
-    send_share(r, kPrestart, 0, prestart_placed_, 0.0);
-    rank_prestarted_[static_cast<std::size_t>(r)] = 1;
-  }
+  for (int r = 1; r < ranks_; ++r)
+    if (prestarts(r)) send_share(r, kPrestart, 0, prestart_placed_, 0.0);
 }
 
 core::ShareRollout MpiEnvPool::rollout(const std::vector<core::EpisodeSetup>& setups, const rl::ActorCritic& model,
@@ -450,7 +446,6 @@ core::ShareRollout MpiEnvPool::rollout(const std::vector<core::EpisodeSetup>& se
   const std::vector<core::EpisodeSetup> placed = early ? prestart_placed_ : assign(setups);
   prestart_setups_.clear();
   prestart_placed_.clear();
-  if (!early) rank_prestarted_.assign(static_cast<std::size_t>(ranks_), 0);
   if (early) ++prestarted_rollouts_;
   const int n_steps = static_cast<int>(normals.size());
   const std::size_t d = spec().observation.dim(), a = spec().action.dim();
@@ -459,7 +454,7 @@ core::ShareRollout MpiEnvPool::rollout(const std::vector<core::EpisodeSetup>& se
                                     order_.begin() + static_cast<std::ptrdiff_t>(sl.first + sl.count));
   };
   for (int r = 1; r < ranks_; ++r) {
-    if (rank_prestarted_[static_cast<std::size_t>(r)]) {
+    if (early && prestarts(r)) {  // its share was sent and started by the prestart
       send_command(r, kRollout, -n_steps);
       send_doubles({gamma}, r, kTagPayload);
     } else {

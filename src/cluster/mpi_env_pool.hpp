@@ -148,9 +148,8 @@ class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
   std::vector<std::vector<int>> mesh_sends_;  // per rank: the designs whose meshes go with its next setups
   Lending lending_;
   // The setups of the last prestart() (the caller's order) and their placed order, until the
-  // rollout that uses them; which ranks were sent theirs.
+  // rollout that uses them (the ranks sent theirs: prestarts()).
   std::vector<core::EpisodeSetup> prestart_setups_, prestart_placed_;
-  std::vector<char> rank_prestarted_;
   // While a prestart waits for its rollout: the last rollout's work and assignment (what
   // work_since_start() and imbalance() report then).
   std::vector<double> work_before_prestart_;
