@@ -10,6 +10,8 @@
 set -uo pipefail
 a=${1:?usage: compare_runs.sh RUN_A RUN_B}; b=${2:?usage: compare_runs.sh RUN_A RUN_B}
 abs_a=$(realpath "$a"); abs_b=$(realpath "$b")
+# A run started from another folder names itself by a shorter path, down to its folder's name.
+base_a=$(basename "$abs_a"); base_b=$(basename "$abs_b")
 same=0; alike=0; bad=0
 while IFS= read -r f; do
   if [ ! -f "$b/$f" ]; then echo "MISSING   $f"; bad=$((bad + 1)); continue; fi
@@ -22,7 +24,8 @@ while IFS= read -r f; do
       if diff <(cut -d, -f1-14 "$a/$f") <(cut -d, -f1-14 "$b/$f") > /dev/null; then
         alike=$((alike + 1)); echo "same*     $f (timing columns aside)"; else bad=$((bad + 1)); echo "DIFFERENT $f"; fi ;;
     figures/*)
-      if diff <(sed "s|$abs_a|RUN|g; s|$a|RUN|g" "$a/$f") <(sed "s|$abs_b|RUN|g; s|$b|RUN|g" "$b/$f") > /dev/null; then
+      if diff <(sed "s|$abs_a|RUN|g; s|$a|RUN|g; s|$base_a|RUN|g" "$a/$f") \
+              <(sed "s|$abs_b|RUN|g; s|$b|RUN|g; s|$base_b|RUN|g" "$b/$f") > /dev/null; then
         alike=$((alike + 1)); echo "same*     $f (the run folder's path aside)"; else bad=$((bad + 1)); echo "DIFFERENT $f"; fi ;;
     checkpoint*.bin)
       alike=$((alike + 1))

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Acceptance benchmark of the PPO learner (issue 3): trains Pendulum-v1 with
+# Acceptance benchmark of the PPO learner: trains Pendulum-v1 with
 # configs/pendulum.toml for seeds 0..4, one after the other (each run is single-threaded),
 # and prints, as a Markdown table ready to paste, the deterministic evaluation return of each seed
 # (mean ± population std over eval_episodes episodes, 100 in configs/pendulum.toml, seeds disjoint

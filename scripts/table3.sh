@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The Table III equivalent of docs/results.md, printed from finished run folders.
+# The Table III equivalent of docs/journal/results.md, printed from finished run folders.
 #   bash scripts/table3.sh runs/paper [LABEL=RUN_DIR ...]
 # First table: one row per run (the co-design run first, then e.g. no_feedback=runs/paper_no_feedback)
 # with d*, p*, its test return (mean ± std over the evaluation episodes) and band fraction, the

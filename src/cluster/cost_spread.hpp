@@ -1,5 +1,6 @@
 #pragma once
-// How much the designs' different costs load the busiest rank (docs/cluster.md "Measured").
+// How much the designs' different costs load the busiest rank (measured: docs/journal/cluster.md,
+// "The split by cost, and why two ranks are slower").
 //
 // The scaling model (scaling_model.hpp) puts ⌈ψ/N⌉ environments of the same cost c on the busiest
 // rank. The 110 designs do not cost the same: in `bench cluster` on the paper's config the mean

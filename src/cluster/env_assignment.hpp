@@ -29,9 +29,9 @@ std::vector<EnvSlice> env_slices(std::size_t n_envs, int ranks);
 // 0..109, the CPU seconds of its settles and steps in the last iteration that stepped it; NaN where
 // not yet stepped): a known design's own cost; a design not yet stepped, the mean of the known
 // designs of its wall thickness, which sets most of a design's cost (traced two-rank runs of
-// paper.toml: about 0.8 s per iteration at 2.0 mm, 0.3 s at 4.0 mm; docs/cluster.md, session 28),
-// or of all known designs if none of that thickness is known; an environment without a valid
-// design, the mean of all. Empty if no design is known.
+// paper.toml: about 0.8 s per iteration at 2.0 mm, 0.3 s at 4.0 mm; docs/journal/cluster.md,
+// "Builds and wall thickness in the split"), or of all known designs if none of that thickness
+// is known; an environment without a valid design, the mean of all. Empty if no design is known.
 std::vector<double> predict_costs(const std::vector<double>& design_cost, const std::vector<int>& env_design);
 
 // A permutation `order` of the environments 0 .. cost.size()-1: place j of the slices (rank r has

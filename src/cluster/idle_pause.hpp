@@ -1,13 +1,14 @@
 #pragma once
 
-// How long a rank that waits for a message sleeps between two polls (docs/cluster.md, "A waiting
-// rank's polls"). Open MPI's shared-memory transport has no wait that sleeps in the kernel, so a
-// waiting rank polls; each wake-up costs the ranks still working on the same cores some of their
-// time (11-16 µs of theirs per wake on the Zen 1 VM, with a wide spread: scripts/evaluation_pairs.sh
-// with WAKER_US), and a long pause makes the waiter notice its message late. A wait that has lasted
-// w seconds is taken to last about as long again: then n = w / p wakes cost n · c and the answer
-// comes p / 2 late on average, and c · w / p + p / 2 is least at p = √(2 c w). Hence the pause
-// grows with the root of the time waited, from `min_s` to `max_s`.
+// How long a rank that waits for a message sleeps between two polls (docs/journal/cluster.md,
+// "A waiting rank's polls"). Open MPI's shared-memory transport has no wait that sleeps in the
+// kernel, so a waiting rank polls; each wake-up costs the ranks still working on the same cores
+// some of their time (11-16 µs of theirs per wake, with a wide spread; measured with
+// experiments/evaluation_pairs.sh and WAKER_US, same section), and a long pause makes the
+// waiter notice its message late. A wait that has lasted w seconds is taken to last about as long
+// again: then n = w / p wakes cost n · c and the answer comes p / 2 late on average, and
+// c · w / p + p / 2 is least at p = √(2 c w). Hence the pause grows with the root of the time
+// waited, from `min_s` to `max_s`.
 namespace codesign::cluster {
 
 struct IdlePause {

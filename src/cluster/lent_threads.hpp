@@ -1,10 +1,10 @@
 #pragma once
-// Ranks on one machine lend each other their threads at the end of a whole rollout (issue 20 §3).
+// Ranks on one machine lend each other their threads at the end of a whole rollout.
 //
 // With whole rollouts (codesign/run_ahead.hpp) the ranks meet once per iteration, and a split fixed
 // for the whole rollout cannot foresee what each environment's episodes will cost: the rank done
-// first idles until the last one is done (docs/cluster.md, "Each design meshed once across the
-// ranks": about 1.6-2.3 % of two ranks' collection). Ranks that share a machine share its cores, so
+// first idles until the last one is done (docs/journal/cluster.md, "Each design meshed once
+// across the ranks": about 1.6-2.3 % of two ranks' collection). Ranks that share a machine share its cores, so
 // a rank that has run its share sends a short note to the other ranks on its machine and waits
 // without holding a core (mpi_wait.hpp); each rank still stepping takes up, from the next environment
 // its calling thread steps, its own threads plus those of every finished rank, up to its pool's size. A rank's pool

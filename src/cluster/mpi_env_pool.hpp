@@ -1,5 +1,5 @@
 #pragma once
-// The rollout backend of Algorithm 1 across MPI ranks (issue 20 §1).
+// The rollout backend of Algorithm 1 across MPI ranks (docs/cluster.md).
 //
 // The ψ environments of an iteration are shared out over the ranks of MPI_COMM_WORLD: env_slice
 // fixes how many each rank steps, assign_by_cost (env_assignment.hpp) which ones, anew at every
@@ -93,8 +93,8 @@ class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
   // the other ranks' records after its own share was done.
   int rollouts() const { return rollouts_; }
   double rollout_wait_seconds() const { return rollout_wait_s_; }
-  // Off: every start keeps the contiguous slices (env_slice), as before the costs were used; for
-  // the bench's comparison of the two. On by default.
+  // Off: every start keeps the contiguous slices (env_slice), whatever the costs; for the bench's
+  // comparison of the two. On by default.
   void set_share_by_cost(bool on) { share_by_cost_ = on; }
   // Starts so far, and of them those whose assignment was not the contiguous slices.
   int starts() const { return starts_; }

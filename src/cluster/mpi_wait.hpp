@@ -11,8 +11,9 @@ void check(int rc, const char* what);
 // Waits for a posted request without holding a core. Open MPI's blocking calls poll the shared
 // memory transport in a loop, so a rank waiting through rank 0's PPO update or final evaluation
 // would take a core from it when the ranks share a machine. This polls for up to 100 µs (an answer
-// to a step usually comes within that: docs/cluster.md), then sleeps between polls for a pause that
-// grows with the root of the time waited (idle_pause.hpp).
+// to a step usually comes within that: docs/journal/cluster.md, "Measured: one and two ranks on
+// one machine"), then sleeps between polls for a pause that grows with the root of the time
+// waited (idle_pause.hpp).
 void wait_without_spinning(MPI_Request& request, MPI_Status* status, const char* what);
 
 }  // namespace codesign::cluster

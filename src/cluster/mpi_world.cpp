@@ -28,8 +28,8 @@ MpiSession::~MpiSession() {
   if (finalized) return;
   // The ranks meet before MPI_Finalize, waiting as the rollouts wait (mpi_wait.hpp). Open MPI 4.1's
   // MPI_Finalize waits for the job's other ranks by sleeping 100 µs between polls (about 6 500
-  // wakes a second: scripts/finalize_wakes.sh), and the other ranks get there while rank 0 still
-  // renders the frames and figures; each wake takes a moment of the cores rank 0 works on
+  // wakes a second: experiments/finalize_wakes.sh), and the other ranks get there while rank 0
+  // still renders the frames and figures; each wake takes a moment of the cores rank 0 works on
   // (idle_pause.hpp). A failed barrier only means MPI_Finalize does the waiting.
   MPI_Request request;
   if (MPI_Ibarrier(MPI_COMM_WORLD, &request) == MPI_SUCCESS) {

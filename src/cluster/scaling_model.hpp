@@ -1,5 +1,5 @@
 #pragma once
-// How an iteration of Algorithm 1 scales with MPI ranks (issue 20 §3): a model fed with costs
+// How an iteration of Algorithm 1 scales with MPI ranks: a model fed with costs
 // measured on one machine (`codesign bench cluster`, docs/cluster.md).
 //
 // One iteration on N ranks of t threads each:
@@ -67,12 +67,12 @@ struct RunIteration {
 };
 
 // A whole run of `run_threads` threads, projected iteration by iteration to `ranks` ranks of
-// `threads` threads (scripts/cluster_projection.sh's arithmetic): with s = rounds(ranks, threads) /
-// rounds(1, run_threads) · (collect − policy), each iteration takes F · s + policy + update, the
-// update's term max(update, P · s) on more than one rank (P: the slowest rank's starts during the
-// update, 0: none; F then the collection without them). Messages are left out. Seconds of the
-// run; std::invalid_argument for no iterations, a negative or non-finite figure, or what
-// collection_rounds refuses.
+// `threads` threads (experiments/cluster_projection.sh's arithmetic): with
+// s = rounds(ranks, threads) / rounds(1, run_threads) · (collect − policy), each iteration takes
+// F · s + policy + update, the update's term max(update, P · s) on more than one rank (P: the
+// slowest rank's starts during the update, 0: none; F then the collection without them). Messages
+// are left out. Seconds of the run; std::invalid_argument for no iterations, a negative or
+// non-finite figure, or what collection_rounds refuses.
 double projected_run_seconds(const std::vector<RunIteration>& run, std::size_t environments, int run_threads,
                              int ranks, int threads, double F, double P);
 

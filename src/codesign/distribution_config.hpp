@@ -18,8 +18,9 @@ inline constexpr EnumNames<BetaSchedule, 2> kBetaScheduleNames{{{BetaSchedule::R
 inline const char* to_string(BetaSchedule s) { return name_of(kBetaScheduleNames, s).data(); }
 
 // Default target entropy of q_disc at T2 for the entropy schedule: ln 3 nats (perplexity 3, about
-// three designs still drawn when the distribution collapses; issue 18 asks for H(q_disc) ≤ ln 3
-// at T2). The literal is std::log(3.0) rounded to double (a test checks it).
+// three designs still drawn when the distribution collapses: the co-design should leave
+// H(q_disc) ≤ ln 3 at T2; docs/codesign.md, "Phases and β"). The literal is std::log(3.0)
+// rounded to double (a test checks it).
 inline constexpr double kDefaultEntropyEnd = 1.0986122886681098;
 
 struct DistributionConfig {

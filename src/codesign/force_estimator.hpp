@@ -3,7 +3,8 @@
 // base-angle encoder θ.
 //
 // Model: ε = c0 + c1·F + c2·θ (ε falls as F rises, so c1 < 0 on every design we have seen; ε
-// also moves with θ at a fixed F, SPEC §3), inverted as F̂(ε, θ) = (ε − c0 − c2·θ)/c1.
+// also moves with θ at a fixed F, the base turning the body), inverted as
+// F̂(ε, θ) = (ε − c0 − c2·θ)/c1.
 // fit_force_estimator() finds (c0, c1, c2) by least squares of ε over samples (ε, F, θ) and
 // reports how good the fit is: R² of ε, and the rms of F̂ − F over the samples in mN
 // (= rms of the ε residual / |c1|). Where the samples come from: estimator_calibration.hpp.

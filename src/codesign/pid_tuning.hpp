@@ -17,7 +17,8 @@
 // episodes at the tuning phases (estimator_calibration.hpp), then tunes its gains with the
 // setpoint F_t like the force PID. No setpoint offset is tuned: the fit's residual has zero mean
 // over its samples, and in closed loop F averaged 20.00 mN over the first test episode of j47
-// (docs/baselines.md), so there is no bias for an offset to remove.
+// (docs/journal/baselines.md, "Measured: the estimator PID beside the others"), so there is no
+// bias for an offset to remove.
 #include <array>
 #include <cstddef>
 #include <functional>

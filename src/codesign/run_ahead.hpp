@@ -1,5 +1,5 @@
 #pragma once
-// Whole rollouts of a feed-forward policy run where the environments are (issue 20 §3).
+// Whole rollouts of a feed-forward policy run where the environments are (docs/cluster.md).
 //
 // In the one-process rollout (rl/rollout.hpp) the policy acts on all ψ environments at each
 // decision, so environments spread over MPI ranks would have to meet at every decision. A rank can

@@ -1,6 +1,6 @@
 #pragma once
-// The whisker force-tracking MDP of the paper (§IV-A, §V-A; SPEC §3), as a value type with the
-// paper's defaults. Where the paper is silent the choice is ours and is marked "(ours)".
+// The whisker force-tracking MDP of the paper (§IV-A, §V-A; docs/codesign.md), as a value type
+// with the paper's defaults. Where the paper is silent the choice is ours and is marked "(ours)".
 #include <cstddef>
 #include <cstdint>
 #include <numbers>
@@ -11,7 +11,7 @@ namespace codesign::core {
 
 // Which observation the policy sees (whisker_env.hpp lists the components):
 //   Paper          {j, p, ε}      the paper's main framework (default)
-//   Proprioceptive {j, p, ε, θ}   ours: the motor encoder's base angle added (SPEC §3)
+//   Proprioceptive {j, p, ε, θ}   ours: the motor encoder's base angle added
 //   NoFeedback     {p}            the paper's no-feedback baseline: ε and morphology removed
 enum class ObservationSet { Paper, Proprioceptive, NoFeedback };
 inline constexpr EnumNames<ObservationSet, 3> kObservationSetNames{{{ObservationSet::Paper, "paper"},
@@ -26,7 +26,8 @@ inline const char* to_string(ObservationSet s) { return name_of(kObservationSetN
 //   Inflated  ε − ε₀, with ε₀ the strain of the same design at the same pressures, at θ = 0 and
 //             out of contact — the sensor zeroed after inflation, as one tares a strain gauge
 //             before use — scaled by [zeroed_strain_min, zeroed_strain_max]. The default: with it
-//             PPO learns the task about three times faster (docs/results.md, "Zeroed strain").
+//             PPO learns the task about three times faster (docs/journal/results.md, "Zeroed
+//             strain").
 enum class StrainOffset { None, Inflated };
 
 inline constexpr EnumNames<StrainOffset, 2> kStrainOffsetNames{{{StrainOffset::None, "none"},
@@ -75,7 +76,7 @@ struct TaskConfig {
   // The episode ends early when fem::Sensors::theta_extreme is set, i.e. |θ| beyond the scene's
   // fem::SceneConfig::theta_limit_deg ([scene] theta_limit_deg): one limit, stated there.
   ObservationSet observation = ObservationSet::Paper;
-  // Memory by stacking (ours, issue 17): the last `history` decisions' time-varying observation
+  // Memory by stacking (ours): the last `history` decisions' time-varying observation
   // components (ε, and θ where observed) and their actions appended to the observation, in
   // [0, decisions per episode − 1]; 0 (the default, the paper's) appends nothing. With
   // history = decisions − 1 the observation holds the whole episode so far, so θ (the sum of the
@@ -84,13 +85,14 @@ struct TaskConfig {
   int history = 0;
   // Reference range of ε for the observation's min–max scaling, measured by `codesign survey`
   // over all 110 designs, the pressure corners and θ0 ∈ {−θ_max, 0, θ_max}: ε ∈ [−0.000288,
-  // 0.04166], widened by 10 % each side (docs/codesign.md).
+  // 0.04166], widened by 10 % each side (docs/journal/codesign.md, "The survey as printed at its
+  // commits").
   double strain_min = -0.004483;
   double strain_max = 0.04586;
   StrainOffset strain_offset = StrainOffset::Inflated;
   // Reference range of ε − ε₀ (strain_offset = "inflated"), measured by `codesign survey` over the
   // same episodes as strain_min/max: ε − ε₀ ∈ [−0.000893, 0.0000006], widened by 10 % each side
-  // (docs/codesign.md).
+  // (docs/journal/codesign.md, "The survey as printed at its commits").
   double zeroed_strain_min = -0.0009826;
   double zeroed_strain_max = 0.00008997;
   // Chamber pressures p_i ∈ [0, pressure_max_kPa] (paper: 20 kPa): the observation's pressure

@@ -1,5 +1,6 @@
 #pragma once
-// The whisker force-tracking MDP (paper §IV-A, §V-A; SPEC §3) as an rl::Env over fem::Simulator.
+// The whisker force-tracking MDP (paper §IV-A, §V-A; docs/codesign.md) as an rl::Env over
+// fem::Simulator.
 //
 // Episode: the design and chamber pressures of the current EpisodeSetup, θ = 0, the body loaded
 // quasi-statically onto the plate (Simulator::settle), then `decisions` = episode_steps /
@@ -87,7 +88,7 @@ inline TraceRow trace_row(const fem::Sensors& s, int decision, double action, do
           s.plate_z_mm, action, strain_zero};
 }
 
-// r_f of SPEC §3 for a force F.
+// The force term r_f of the reward (docs/codesign.md, "The whisker task") for a force F.
 double force_reward(double force_mN, const TaskConfig& task);
 // Whether F lies inside the ±tolerance band around the target.
 bool in_band(double force_mN, const TaskConfig& task);

@@ -1,9 +1,9 @@
 #pragma once
 // One call from a design index to a simulation-ready Model: geometry → gmsh mesh → model
 // (mass, stiffness, boundary sets, fibre springs). Meshing is nearly all of it (`bench cluster`
-// under mpirun prints both: 0.11 s to mesh a design, 0.009 s for its model from the mesh, on the
-// AVX-512 VM in session 31): whisker_model_from_mesh does the rest from a mesh made elsewhere (the
-// MPI backend meshes each design once and sends the mesh to the other ranks).
+// under mpirun prints both; measured: docs/journal/cluster.md, "Each design meshed once across
+// the ranks"): whisker_model_from_mesh does the rest from a mesh made elsewhere (the MPI backend
+// meshes each design once and sends the mesh to the other ranks).
 #include <memory>
 
 #include "fem/fibre_layout.hpp"

@@ -3,8 +3,8 @@
 //
 // write_png writes PATH.tmp and renames it onto PATH, so a reader never sees half a frame.
 // `compression` is zlib's level 0..9 (png_range::compression); rendered frames are mostly flat
-// background, so level 1 with the "up" row filter is both fast and small (docs/rendering.md
-// gives the measured sizes and times). Errors (unwritable path, libpng failure) throw
+// background, so level 1 with the "up" row filter is both fast and small (measured sizes and
+// times: docs/journal/rendering.md). Errors (unwritable path, libpng failure) throw
 // std::runtime_error naming the file.
 #include <string>
 

@@ -4,11 +4,12 @@
 //   * gemm_bf16 / gemm_bf16_packed: operands rounded to bfloat16, sums in float32 (AVX-512 BF16
 //     vdpbf16ps), a 32 x 8 tile, with an optional per-tile epilogue (gemm_bf16.cpp).
 //
-// Why not Eigen's product: on this Zen 4 core Eigen 3.4's float GEMM kernel (48 x 4 register
+// Why not Eigen's product: on an AVX-512 core Eigen 3.4's float GEMM kernel (48 x 4 register
 // tile) reaches ~66-72 % of the measured FMA peak on the 512 x 512 x 256 shapes of a PPO update;
 // sgemm's tile (24 accumulators, the B operand broadcast from memory) reaches ~85-90 %, and
-// gemm_bf16 ~90 % of the twice higher bf16 peak. Used by MlpT<float> for large layers when
-// compiled with AVX-512 (BF16); elsewhere (small layers, float64, no AVX-512) Eigen is used.
+// gemm_bf16 ~90 % of the twice higher bf16 peak (measured: docs/journal/rl.md, "The GEMM
+// kernels"). Used by MlpT<float> for large layers when compiled with AVX-512 (BF16); elsewhere
+// (small layers, float64, no AVX-512) Eigen is used.
 //
 // sgemm blocking: K in blocks of 256; A packed into 32-row panels (fits L2), B into 12-column
 // panels (fits L1). Edges are zero-padded in the packed copies and written through a scratch
@@ -49,7 +50,7 @@ void sgemm(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::In
 //   |C_bf16 - A B| <= (2 u16 + u16^2 + gamma_{k+1} (1 + u16)^2) (|A| |B|),  u16 = 2^-8,
 // since a product of two bf16 numbers is exact in float32. Twice the multiply-adds per
 // instruction of sgemm (AVX-512 BF16 `vdpbf16ps`).
-bool bf16_gemm_available();  // true if built with AVX-512 BF16 (e.g. -march=native on Zen 4)
+bool bf16_gemm_available();  // true if built with AVX-512 BF16 (e.g. -march=native on such a CPU)
 
 // Work done on each finished tile of C while it is in L1, in this order (all optional):
 //   c += bias (per row);  c = tanh(c);  c *= 1 - t^2 (t: a matrix like C);

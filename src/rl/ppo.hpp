@@ -80,7 +80,8 @@ struct PpoConfig {
   // each component is projected back to at least log_std_min, so the exploration noise cannot
   // shrink below exp(log_std_min). Why: the KL between two Gaussians of equal sigma grows as
   // (change of mean / sigma)^2, and a paper-size co-design whose sigma shrank from 0.018 to 0.006
-  // ran into updates with approx_kl 0.5-20 and collapsed (docs/results.md). Unset: no floor.
+  // ran into updates with approx_kl 0.5-20 and collapsed (docs/journal/results.md, "Paper-size
+  // co-design with our settings"). Unset: no floor.
   // Needs log_std_init >= log_std_min.
   std::optional<double> log_std_min;
   double adam_eps = 1e-5;
@@ -114,7 +115,7 @@ inline constexpr Range<double> log_std_init{-20.0, 5.0};
 inline constexpr Range<double> adam_eps{1e-20, 1.0};
 }  // namespace ppo_range
 
-// The paper's settings (SPEC.md section 4): lr 0.003, n_steps 50, batch 256, 10 epochs, gamma
+// The paper's settings (its Table I): lr 0.003, n_steps 50, batch 256, 10 epochs, gamma
 // 0.99, lambda 0.95, clip 0.2, ent 0.01 decaying to 0 between 220k and 800k steps, vf 0.6, grad
 // clip 0.5, target_kl 0.02, [512, 512, 512] actor and critic.
 PpoConfig paper_ppo_config();

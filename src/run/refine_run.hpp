@@ -1,5 +1,5 @@
 #pragma once
-// `codesign refine` (docs/baselines.md, "p* polish"): polishes p* of a finished co-design run
+// `codesign refine` (docs/baselines.md, "`codesign refine`"): polishes p* of a finished co-design run
 // (core::refine_pressures). Reads DIR/config.toml (the resolved config), DIR/policy.bin and
 // DIR/result.toml's [best]; keeps the policy and j* fixed; NLopt searches p in [0, p_max] (p2 = 0
 // for one chamber) on tuning phases; tests p* before and after on the run's evaluation phases;

@@ -1,7 +1,8 @@
 #pragma once
 // `codesign evaluate --run DIR [--at final|t1|t2] [--designs A-B] [--phases N]`: the deterministic
 // policy of one state of a co-design run, tested on every design of a range, each at the
-// pressures that state gives it, ranked (issue 18 §2).
+// pressures that state gives it, ranked (docs/codesign.md, "Evaluating a run's state on every
+// design").
 //
 // The state is a checkpoint of the run folder: checkpoint.bin (`final`: the latest, the end of
 // training once the run is complete) or the copies kept at T1 and T2 (checkpoint_t1.bin,
@@ -16,7 +17,7 @@
 // With `pressures_of` = another run folder (`--pressures-of RUN`), each design is tested at the
 // pressures that run's state at the same `at` gives it (the same rule: map(μ_j), or p* for its
 // collapsed design) instead of this run's: the policy of one seed on the design answers of another
-// (issue 18 §3's cross-seed check, fair to a d* whose p* the evaluated run never tried). The other
+// (a cross-seed check, fair to a d* whose p* the evaluated run never tried). The other
 // run's leading design is reported as `pressures_d*` beside this run's d* and runner-up. Output
 // then goes to DIR/evaluate/<at>_pressures_of_<basename of RUN>/.
 //

@@ -1,9 +1,8 @@
 #pragma once
 // The run folder's result files: result.toml and the evaluation CSVs, with the one writer and
-// the one reader of each (docs/codesign.md, "The run folder"). The run writes result.toml and
+// the one reader of each (docs/run_folder.md, "Files"). The run writes result.toml and
 // eval/{best,runner_up}*.csv; `baseline pid` writes eval/<controller>*.csv in its folder;
 // render, figures and refine read result.toml; refine appends its [refined] table.
-// (Issue 19: the run layer, when it lands, owns this module with the rest of the folder.)
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -16,7 +15,7 @@
 
 namespace codesign::run {
 
-// The names of a run folder's files and folders (docs/codesign.md, "The run folder"): every
+// The names of a run folder's files and folders (docs/run_folder.md, "Files"): every
 // module of the run layer opens them by these names.
 namespace run_file {
 inline constexpr const char* kConfig = "config.toml";             // the resolved config

@@ -1,4 +1,4 @@
-// `mpirun -np N codesign run` (issue 20 §1, docs/cluster.md): the same run folder as one process,
+// `mpirun -np N codesign run` (docs/cluster.md): the same run folder as one process,
 // file for file (wall-clock fields aside), on 2 and 3 ranks of a 4-environment tiny run whose
 // environments move between the ranks as their costs say (cluster::assign_by_cost); bad rank
 // counts and other commands under mpirun are one message and exit 2. Open MPI is pinned to this
@@ -51,8 +51,8 @@ std::string without_wall(const std::string& toml) {
 // ranks 10 s before it kills them.
 // Under AddressSanitizer the ranks run without LeakSanitizer: Open MPI loads its components with
 // dlopen and closes them at MPI_Finalize, so the allocations they keep until exit are reported
-// from "<unknown module>" frames that no suppression can name (tried in session 20: 3 300
-// allocations, 116 kB per rank). Memory errors and UBSan stay on; the leak check of our own code
+// from "<unknown module>" frames that no suppression can name (some 3 300 allocations, 116 kB
+// per rank). Memory errors and UBSan stay on; the leak check of our own code
 // runs in every test that does not start MPI, the one-process runs here included.
 constexpr const char* kMpiEnv =
     "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ASAN_OPTIONS=\"${ASAN_OPTIONS}:detect_leaks=0\" ";

@@ -1,4 +1,4 @@
-// The seed-study scripts whose figures docs/results.md quotes (issue 18 §3): scripts/seed_table.sh
+// The seed-study scripts whose figures docs/journal/results.md quotes: scripts/seed_table.sh
 // with its 95 % interval column and scripts/training_seeds.sh, on run folders written here with
 // hand-chosen numbers, against statistics worked out by hand.
 #include <gtest/gtest.h>

@@ -235,7 +235,7 @@ TEST(AssignByCost, AKnownMeshMakesADesignCheapToTakeUp) {
 // improves (the swaps' rule, checked on totals recounted from the order). (The plain rule's
 // bound on the spread does not carry over: once a rank's slice is full the others may have to take
 // environments they must build for, so the builds are a heuristic's input, judged by whole runs:
-// docs/cluster.md.)
+// docs/journal/cluster.md, "Builds and wall thickness in the split".)
 TEST(AssignByCost, RandomBuildsKeepThePlainRuleAtZeroCost) {
   std::mt19937_64 rng(20261206);
   std::uniform_real_distribution<double> u(0.05, 1.0);

@@ -1,4 +1,4 @@
-// The scaling model of issue 20 §3 against values worked out by hand.
+// The scaling model of cluster/scaling_model.hpp against values worked out by hand.
 #include <gtest/gtest.h>
 
 #include <stdexcept>

@@ -47,7 +47,7 @@ TEST(EstimatorPid, FitExplainsTheStrainAndBeatsTheStrainPid) {
   // a PI that tracks F̂ in the band's inner part, so rms_mN < 1. In force units the fitted ε
   // spreads over the schedules' θ* ± 2.5° (≈ ±17 mN on j21) and the plate's swing, an sd of at
   // least 5 mN (that of a uniform spread over ±8.5 mN), so rms 1 mN means R² ≥ 1 − (1/5)² = 0.96.
-  // Measured (this test, commit of the estimator): R² 0.9989, rms 0.40 mN, sd ≈ 12 mN.
+  // Measured by this test: R² 0.9989, rms 0.40 mN, sd ≈ 12 mN.
   EXPECT_GT(fit.r2, 0.96);
   EXPECT_LT(fit.rms_mN, 1.0);
   // Measured: estimate PI 37.4 ± 1.4 against strain PI −2.6 ± 2.6 on the 2 test phases (the

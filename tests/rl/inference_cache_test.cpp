@@ -42,7 +42,7 @@ TEST(InferenceCache, ReusedCacheMatchesFreshCallsAndFollowsWeightChanges) {
   }
 }
 
-// Issue 20 (codesign/run_ahead.hpp): an MPI rank runs its environments' rollouts on the ψ-wide
+// Whole rollouts on MPI ranks (codesign/run_ahead.hpp): an MPI rank runs its environments' rollouts on the ψ-wide
 // batch with its own columns at their places and zeros elsewhere. That gives the one-process
 // numbers if a column's action, value and log-probability depend on no other column's values:
 // shown here for every kernel MlpT can take (blocked GEMMs in float32 and bf16 where the CPU has
@@ -82,7 +82,7 @@ TEST(InferenceCache, ColumnsDoNotDependOnTheOtherColumnsValues) {
       }
 }
 
-// Issue 20 (docs/cluster.md, "The meeting at every decision, counted"): ranks that ran ahead would
+// Ranks that run ahead (docs/journal/cluster.md, "The meeting at every decision, counted") would
 // compute the policy on their own few columns. With the blocked kernels (batches of >= 32 columns)
 // a column's action, value and log-probability do not depend on how many columns are computed with
 // it, edge tiles included (33); the paper's networks, both precisions. (Below 32 columns MlpT takes

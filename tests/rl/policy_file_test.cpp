@@ -216,9 +216,9 @@ TEST_F(PolicyFile, FeedForwardEpisodeIsActDeterministic) {
 namespace codesign::rl {
 namespace {
 
-// Fuzz finding (docs/reliability.md): 60 bytes declaring a network of billions of weights made
-// the reader allocate and zero it before finding the weights missing. The sizes are now checked
-// against the bytes present first.
+// Fuzz finding (docs/journal/reliability.md, "Fuzzing campaign and findings"): 60 bytes
+// declaring a network of billions of weights made the reader allocate and zero it before finding
+// the weights missing. The sizes are now checked against the bytes present first.
 TEST(PolicyFileSizes, HugeDeclaredNetworkIsRejectedBeforeAllocating) {
   std::vector<unsigned char> b{'C', 'D', 'S', 'P', 'O', 'L', 'C', 'Y'};
   auto u32 = [&](std::uint32_t v) {

@@ -262,7 +262,7 @@ TEST(ResolvedConfig, PaperVariantsDifferOnlyWhereTheySay) {
 
   RunTables sd = variant("paper_single_design.toml");
   EXPECT_EQ(sd.loop.codesign.baseline, Baseline::SingleDesign);
-  EXPECT_EQ(sd.loop.codesign.single_design_index, 47);  // d* of the paper run at bc3ca79
+  EXPECT_EQ(sd.loop.codesign.single_design_index, 47);  // d* of our paper run (docs/journal/results.md)
   sd.loop.codesign.baseline = paper.loop.codesign.baseline;
   sd.loop.codesign.single_design_index = paper.loop.codesign.single_design_index;
   sd.loop.codesign.single_design_p1_kPa = paper.loop.codesign.single_design_p1_kPa;
