@@ -1,7 +1,7 @@
 // `codesign bench cluster [--config configs/paper.toml] [--iterations N] [--warmup K]
 //                         [--threads T] [--model-threads T] [--exchanges N] [--contiguous]
 //                         [--lockstep] [--from-run RUN]`
-// alone, or under `mpirun -np N` (issue 20 §3, docs/cluster.md).
+// alone, or under `mpirun -np N` (docs/cluster.md).
 //
 // Rank 0 runs K warm-up iterations of Algorithm 1 (they mesh the designs first sampled and build
 // their simulators, a cost a long run pays once) and N timed ones with the run's rollout backend
@@ -16,7 +16,7 @@
 // model (cluster/scaling_model.hpp) with these costs: seconds per iteration and the projected run
 // time for 1 … ψ ranks of --model-threads threads, with the update on rank 0 (as built) and
 // spread over the ranks (a bound: not built, messages free), beside the measured figure of this
-// launch, and the issue's goal (the paper run in ≤ 5 min on 16 ranks); then the spread update
+// launch, and the goal (the paper run in ≤ 5 min on 16 ranks); then the spread update
 // with its gradients' messages, per minibatch with a gradient (counted over the timed iterations)
 // 2 (N − 1)/N times one gradient's transfer: as measured between this launch's ranks (under
 // mpirun), and over links of 10, 25 and 100 Gb/s (the gradient's bytes over the link's rate); its
@@ -26,7 +26,7 @@
 // than cores on rank 0's machine (ranks there × --threads) is measured as any other, and the
 // bench says that its c is a share of a core, which the model cannot use. With --from-run, a
 // finished one-process run of this launch's threads is projected too, iteration by iteration from
-// its ppo.csv, with the busiest rank's factors measured here (scripts/cluster_projection.sh's
+// its ppo.csv, with the busiest rank's factors measured here (experiments/cluster_projection.sh's
 // arithmetic, cluster::projected_run_seconds).
 #include <algorithm>
 #include <chrono>
@@ -43,6 +43,7 @@
 
 #include <unistd.h>
 
+#include "base/peak_memory.hpp"
 #include "cli_options.hpp"
 #include "cluster/cost_spread.hpp"
 #include "cluster/mpi_env_pool.hpp"
@@ -261,10 +262,10 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
     const double run_pre = iterations_total * cluster::iteration_seconds(pre, r) / 60.0;
     if (r > 1)
       std::printf("        | the ranks' starts during rank 0's update (%.3f s): L = %.3f after it, run %.1f min; bound: the "
-                  "slowest rank's starts %.3f s, F = %.3f, P = %.3f (scripts/cluster_projection.sh), run %.1f min\n",
+                  "slowest rank's starts %.3f s, F = %.3f, P = %.3f (experiments/cluster_projection.sh), run %.1f min\n",
                   c.update_s, m.after_update, run_pre, bound.prestart_s, m.prestarted / own.lockstep,
                   m.prestart / own.lockstep, iterations_total * cluster::iteration_seconds(bound, r) / 60.0);
-    // The same factors applied to every iteration of a whole run (scripts/cluster_projection.sh).
+    // The same factors applied to every iteration of a whole run (experiments/cluster_projection.sh).
     double whole_pre = 0.0;
     if (!whole_run.empty() && r > 1) {
       const double whole_end = cluster::projected_run_seconds(whole_run, psi, launch_threads, r, c.threads_per_rank,
@@ -277,13 +278,13 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
     }
     if (r == 16) {
       if (!whole_run.empty() && whole_rollouts)
-        std::printf("  goal (issue 20 §3), the model fed with the whole run: the run in <= 5 min on 16 ranks x %d "
+        std::printf("  goal (docs/journal/cluster.md), the model fed with the whole run: the run in <= 5 min on 16 ranks x %d "
                     "thread(s): %.2f min (whole rollouts started during rank 0's update, bound): %s\n",
                     c.threads_per_rank, whole_pre, whole_pre <= 5.0 ? "met" : "NOT met");
       const double run16 = whole_rollouts ? run_pre : iterations_total * cluster::iteration_seconds(every, r) / 60.0;
       cluster::ScalingCosts at_floor = c;
       at_floor.collect_factor = m.floor / own.lockstep;
-      std::printf("  goal (issue 20 §3), the meeting counted, this launch's iterations: the run in <= 5 min on 16 ranks x "
+      std::printf("  goal (docs/journal/cluster.md), the meeting counted, this launch's iterations: the run in <= 5 min on 16 ranks x "
                   "%d thread(s): %.1f min (%s): %s; with the starts in the collection %.1f min, with the floor of any "
                   "order of a rank's jobs %.1f min\n",
                   c.threads_per_rank, run16,
@@ -433,8 +434,8 @@ int run_bench_cluster(const BenchClusterOptions& o) {
       std::max(0.0, collect / n - policy / n - messages) /
       static_cast<double>(cluster::collection_rounds(static_cast<std::size_t>(psi), ranks, static_cast<int>(threads)));
   std::printf("bench cluster: measured on %d rank(s): %.3f s per iteration: collection %.3f s (policy inference "
-              "%.3f s of it), PPO update %.3f s, distribution %.4f s\n",
-              ranks, wall / n, collect / n, policy / n, update / n, dist / n);
+              "%.3f s of it), PPO update %.3f s, distribution %.4f s; rank 0's peak resident memory %.0f MiB\n",
+              ranks, wall / n, collect / n, policy / n, update / n, dist / n, peak_resident_mib());
   std::printf("  collection of one environment per iteration: %.4f s CPU in settles and FEM steps, %.4f s wall per "
               "round of a rank's threads (the model's c)\n",
               env_cpu, env_wall);
@@ -512,7 +513,7 @@ int run_bench_cluster(const BenchClusterOptions& o) {
   if (psi >= 16) {
     const double m16 = iterations_total * cluster::iteration_seconds(c, 16) / 60.0;
     const double s16 = iterations_total * cluster::iteration_seconds(spread, 16) / 60.0;
-    std::printf("  goal (issue 20 §3): the run in <= 5 min on 16 ranks by the model: %.1f min with the update on rank 0: "
+    std::printf("  goal (docs/journal/cluster.md): the run in <= 5 min on 16 ranks by the model: %.1f min with the update on rank 0: "
                 "%s; %.1f min with it spread (not built; messages free, priced below): %s\n",
                 m16, m16 <= 5.0 ? "met" : "NOT met", s16, s16 <= 5.0 ? "would be met" : "NOT met either");
   }

@@ -13,6 +13,7 @@
 #include <memory>
 #include <string>
 
+#include "base/peak_memory.hpp"
 #include "codesign/outer_loop.hpp"
 #include "run/run_config.hpp"
 #include "cli_options.hpp"
@@ -66,7 +67,8 @@ int run_bench_codesign(const BenchCodesignOptions& o) {
   const double per_iter = wall / o.iterations;
   const double iters_total = static_cast<double>(lc.codesign.total_timesteps) / (static_cast<double>(psi) * n_steps);
   const double projected = iters_total * per_iter;
-  std::printf("bench codesign: %d iterations in %.2f s: %.2f s per iteration\n", o.iterations, wall, per_iter);
+  std::printf("bench codesign: %d iterations in %.2f s: %.2f s per iteration; peak resident memory %.0f MiB\n",
+              o.iterations, wall, per_iter, peak_resident_mib());
   std::printf("  env decisions/s            %.0f   (simulation steps/s %.0f)\n", decisions / wall, sim_steps / wall);
   std::printf("  wall per iteration: collection %.3f s (%.0f %%), PPO update %.3f s (%.0f %%), distribution %.4f s\n",
               collect / o.iterations, 100.0 * collect / wall, update / o.iterations, 100.0 * update / wall,

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "base/peak_memory.hpp"
 #include "base/thread_cpu_seconds.hpp"
 #include "commands.hpp"
 #include "run/run_config.hpp"
@@ -41,6 +42,8 @@ struct Trace {
   std::vector<Eigen::Vector3d> tip;
   int iterations = 0, refactorisations = 0;
   std::string failure;
+  // Heap the simulator holds [MiB]: new, after the episode, after drop_stored_factors().
+  double heap_new = 0.0, heap_used = 0.0, heap_dropped = 0.0;
 };
 
 // θ target of decision d: the gentle default schedule, or turn_deg·sin(1.1 d); and the same
@@ -61,9 +64,11 @@ Trace run_episode(const std::shared_ptr<const fem::Model>& model, const run::Run
                   int steps, double turn_deg) {
   fem::SolverConfig so = s.solver;
   so.method = method;
+  const double heap0 = heap_in_use_mib();
   fem::Simulator sim(model, s.scene, so);
-  sim.set_pressures_kPa(s.scenario.pressures_kPa[0], s.scenario.pressures_kPa[1]);
   Trace tr;
+  tr.heap_new = heap_in_use_mib() - heap0;
+  sim.set_pressures_kPa(s.scenario.pressures_kPa[0], s.scenario.pressures_kPa[1]);
   fem::StepResult r = sim.settle();
   if (!r.ok()) {
     tr.failure = "settle: " + r.reason;
@@ -85,6 +90,9 @@ Trace run_episode(const std::shared_ptr<const fem::Model>& model, const run::Run
     tr.force_mN.push_back(sim.sensors().contact_force_mN);
     tr.tip.push_back(sim.sensors().tip_position_mm);
   }
+  tr.heap_used = heap_in_use_mib() - heap0;
+  sim.drop_stored_factors();
+  tr.heap_dropped = heap_in_use_mib() - heap0;
   return tr;
 }
 
@@ -102,7 +110,9 @@ double mean(const std::vector<double>& v) {
 int run_bench(const BenchFemOptions& opt) {
   run::RunConfig s = run::read_run_config(opt.config);
   const int design = opt.design >= 0 ? opt.design : s.scenario.design;
+  const double heap0 = heap_in_use_mib();
   const auto model = fem::build_whisker_model(design, s.spec);
+  const double heap_model = heap_in_use_mib() - heap0;
   std::printf("bench fem: design %d, %d nodes, %zu tets, %d free DOFs, %zu fibre springs, dt = %g s, %d steps\n",
               design, model->node_count(), model->mesh.tets.size(),
               3 * (model->node_count() - static_cast<int>(model->base_nodes.size())), model->fibres.size(),
@@ -143,6 +153,10 @@ int run_bench(const BenchFemOptions& opt) {
               dfmax, 100.0 * dfmax / fmax, 100.0 * rel_max, tip_max);
   std::printf("  goals (wall-clock medians): median <= 1 ms [%s], >= 10x faster [%s], F within 1 %% [%s]\n",
               fm <= 1e-3 ? "met" : "NOT met", em / fm >= 10.0 ? "met" : "NOT met", rel_max <= 0.01 ? "met" : "NOT met");
+  // What a run's simulator pool holds per design and per simulator (docs/memory.md).
+  std::printf("  memory (heap in use): model %.2f MiB; fast-step simulator new %.2f MiB, after the episode %.2f MiB, "
+              "idle in the pool (stored factors dropped) %.2f MiB; peak resident %.0f MiB\n",
+              heap_model, fast.heap_new, fast.heap_used, fast.heap_dropped, peak_resident_mib());
   return 0;
 }
 

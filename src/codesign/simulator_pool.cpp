@@ -1,6 +1,7 @@
 #include "codesign/simulator_pool.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -13,7 +14,8 @@ namespace codesign::core {
 SimulatorPool::SimulatorPool(fem::WhiskerModelSpec spec, fem::SceneConfig scene, fem::SolverConfig solver)
     : spec_(std::move(spec)), scene_(scene), solver_(solver) {
   models_.resize(fem::kDesignCount);
-  free_.resize(fem::kDesignCount);
+  live_.assign(fem::kDesignCount, 0);
+  last_used_.assign(fem::kDesignCount, 0);
   for (int j = 0; j < fem::kDesignCount; ++j) build_mutex_.push_back(std::make_unique<std::mutex>());
 }
 
@@ -47,6 +49,7 @@ std::shared_ptr<const fem::Model> SimulatorPool::model(int design) {
 void SimulatorPool::store(int design, std::shared_ptr<const fem::Model> m, double seconds, bool adopted) {
   std::lock_guard<std::mutex> lock(mutex_);
   models_[design] = std::move(m);
+  last_used_[design] = acquisitions_;  // a model built for use now is not one to drop
   built_.seconds += seconds;
   if (adopted) {
     built_.adopt_seconds += seconds;
@@ -85,16 +88,28 @@ std::unique_ptr<fem::Simulator> SimulatorPool::acquire(int design) {
   std::shared_ptr<const fem::Model> m = model(design);
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    auto& list = free_[design];
-    if (!list.empty()) {
-      std::unique_ptr<fem::Simulator> s = std::move(list.back());
-      list.pop_back();
+    peak_leased_ = std::max(peak_leased_, ++leased_);
+    last_used_[design] = ++acquisitions_;
+    // The most recently returned simulator of the design: the one least likely to be evicted next.
+    for (auto it = idle_.rbegin(); it != idle_.rend(); ++it) {
+      if (it->design != design) continue;
+      std::unique_ptr<fem::Simulator> s = std::move(it->sim);
+      idle_.erase(std::next(it).base());
       return s;
     }
     ++built_.simulators;
+    ++live_[design];
   }
   const double t0 = thread_cpu_seconds();
-  auto sim = std::make_unique<fem::Simulator>(std::move(m), scene_, solver_);
+  std::unique_ptr<fem::Simulator> sim;
+  try {
+    sim = std::make_unique<fem::Simulator>(std::move(m), scene_, solver_);
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    --leased_;
+    --live_[design];
+    throw;
+  }
   const double spent = thread_cpu_seconds() - t0;
   std::lock_guard<std::mutex> lock(mutex_);
   built_.seconds += spent;
@@ -103,8 +118,52 @@ std::unique_ptr<fem::Simulator> SimulatorPool::acquire(int design) {
 
 void SimulatorPool::release(int design, std::unique_ptr<fem::Simulator> sim) {
   if (!sim) return;
+  // Its stored factors would be rebuilt by the next user anyway (reset() leaves no trace), and
+  // they are most of its memory.
+  sim->drop_stored_factors();
+  // Destroyed outside the lock (declared before it).
+  std::unique_ptr<fem::Simulator> evicted;
+  std::vector<std::shared_ptr<const fem::Model>> dropped;
   std::lock_guard<std::mutex> lock(mutex_);
-  free_[design].push_back(std::move(sim));
+  if (leased_ > 0) --leased_;
+  idle_.push_back(Idle{design, std::move(sim)});
+  if (idle_.size() > std::max<std::size_t>(peak_leased_, 1)) {
+    --live_[idle_.front().design];
+    evicted = std::move(idle_.front().sim);
+    idle_.pop_front();
+  }
+  // Models of designs without a simulator that no one has asked for in a while.
+  const std::uint64_t window = model_keep_window_locked();
+  for (int d = 0; d < fem::kDesignCount; ++d) {
+    if (!models_[d] || live_[d] > 0 || acquisitions_ - last_used_[d] <= window) continue;
+    dropped.push_back(std::move(models_[d]));
+    models_[d] = nullptr;
+    ++built_.dropped;
+  }
+}
+
+std::uint64_t SimulatorPool::model_keep_window_locked() const {
+  return kModelKeepRounds * std::max<std::uint64_t>(peak_leased_, 1);
+}
+
+std::size_t SimulatorPool::models_held() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return static_cast<std::size_t>(std::count_if(models_.begin(), models_.end(), [](const auto& m) { return m != nullptr; }));
+}
+
+std::size_t SimulatorPool::idle_limit() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::max<std::size_t>(peak_leased_, 1);
+}
+
+std::size_t SimulatorPool::idle() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return idle_.size();
+}
+
+std::size_t SimulatorPool::leased() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return leased_;
 }
 
 double SimulatorPool::BuildStats::seconds_per_simulator() const {

@@ -8,7 +8,20 @@
 // checks bit-identical episodes on a fresh and on a reused simulator), so which simulator
 // object an episode gets never changes its result: leasing only saves construction time.
 //
+// Memory is bounded by what the run uses now, not by its history (docs/memory.md):
+//  * a returned simulator gives up the factorisations it stored (fem::Simulator::
+//    drop_stored_factors; the next user rebuilds them as a new simulator would);
+//  * the pool keeps at most as many idle (returned, not leased) simulators as the most it has had
+//    leased at once — for a run, its number of environments ψ: a return over that bound destroys
+//    the idle simulator returned longest ago, whatever its design;
+//  * a design's model is dropped once no simulator of it is left and no simulator of it has been
+//    asked for in the last kModelKeepRounds × ψ requests (about that many iterations of a run);
+//    asked for again, it is meshed again, to the same bits (meshing is deterministic).
+//
 // Thread-safe: acquire()/release() may be called from the rollout threads concurrently.
+#include <cstddef>
+#include <cstdint>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -36,8 +49,21 @@ class SimulatorPool {
   std::vector<int> take_meshed();
   // A simulator of the design, in an arbitrary earlier state: call reset() before use.
   std::unique_ptr<fem::Simulator> acquire(int design);
-  // Gives a simulator of `design` back for reuse (nullptr is ignored).
+  // Gives a simulator of `design` back for reuse (nullptr is ignored), without its stored
+  // factors; destroys the idle simulator returned longest ago if the idle ones then exceed
+  // idle_limit().
   void release(int design, std::unique_ptr<fem::Simulator> sim);
+
+  // The bound on idle simulators: the most simulators leased at once so far (at least 1).
+  std::size_t idle_limit() const;
+  // Simulators returned and kept for reuse, and simulators leased now.
+  std::size_t idle() const;
+  std::size_t leased() const;
+  // Designs whose model the pool holds now.
+  std::size_t models_held() const;
+  // A model without simulators is dropped after this many times the idle bound of requests for
+  // simulators (of any design) without one for it.
+  static constexpr std::uint64_t kModelKeepRounds = 8;
 
   const fem::SceneConfig& scene() const { return scene_; }
   const fem::SolverConfig& solver() const { return solver_; }
@@ -48,6 +74,7 @@ class SimulatorPool {
   // must spend before it can step a design new to it (cluster::BuildCosts).
   struct BuildStats {
     int simulators = 0, models = 0, adopted = 0;  // models: meshed here; adopted: from a given mesh
+    int dropped = 0;                              // models dropped unused (counted again if rebuilt)
     double seconds = 0.0;        // all builds
     double model_seconds = 0.0;  // of which the meshed models
     double adopt_seconds = 0.0;  // and the adopted ones; the rest went into the simulators
@@ -68,7 +95,17 @@ class SimulatorPool {
   const fem::SolverConfig solver_;
   mutable std::mutex mutex_;
   std::vector<std::shared_ptr<const fem::Model>> models_;              // per design
-  std::vector<std::vector<std::unique_ptr<fem::Simulator>>> free_;     // per design
+  // Returned simulators, the one returned longest ago first.
+  struct Idle {
+    int design;
+    std::unique_ptr<fem::Simulator> sim;
+  };
+  std::deque<Idle> idle_;
+  std::size_t leased_ = 0, peak_leased_ = 0;
+  std::vector<int> live_;                  // per design: its simulators, leased or idle
+  std::vector<std::uint64_t> last_used_;   // per design: acquisitions_ when last asked for or built
+  std::uint64_t acquisitions_ = 0;         // simulators asked for so far
+  std::uint64_t model_keep_window_locked() const;
   std::vector<std::unique_ptr<std::mutex>> build_mutex_;               // per design
   BuildStats built_;
   std::vector<int> meshed_;  // meshed here since the last take_meshed()

@@ -57,6 +57,8 @@ struct CholmodFactor::Impl {
 CholmodFactor::CholmodFactor() : impl_(std::make_unique<Impl>()) {}
 CholmodFactor::~CholmodFactor() = default;
 
+void CholmodFactor::clear() { impl_ = std::make_unique<Impl>(); }
+
 void CholmodFactor::analyse(int n, const std::vector<int>& colptr, const std::vector<int>& rowind,
                             int dofs_per_node) {
   Impl& m = *impl_;

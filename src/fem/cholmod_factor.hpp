@@ -33,6 +33,8 @@ class CholmodFactor {
   // X = A⁻¹ B for several right-hand sides (columns).
   void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X);
   long factor_nonzeros() const;
+  // Frees the analysis and the factor: the object is as newly constructed.
+  void clear();
   // True when the last factorisation is solved by the 3×3 block solves.
   bool block_solves() const;
 

@@ -124,6 +124,26 @@ Simulator& Simulator::operator=(Simulator&&) noexcept = default;
 
 void Simulator::reset() { impl_->reset(); }
 
+void Simulator::drop_stored_factors() {
+  Impl& m = *impl_;
+  const auto drop = [](Impl::Reference& r) {
+    r.factor.clear();
+    r.node_rot = {};
+    r.dt = 0.0;
+    r.cols = {};
+    r.valid = false;
+  };
+  for (Impl::RefSlot& sl : m.slots) {
+    drop(sl.rest);
+    drop(sl.cur);
+    sl.use = Impl::RefSlot::Use::Rest;
+  }
+  drop(m.settled);
+  m.settled_token.reset();
+  m.exact_factor.clear();
+  m.exact_analysed = false;
+}
+
 StepResult Simulator::settle(SettleFor purpose) {
   Impl& m = *impl_;
   StepResult last;

@@ -57,7 +57,8 @@ inline constexpr EnumNames<StepMethod, 2> kStepMethodNames{{{StepMethod::Fast, "
 //    loosen the test.
 //  * Force: ‖r‖ ≤ tol · dt · max(‖f‖, ‖w‖), f the step's total force and w the body's weight,
 //    both on the free DOFs: a residual force relative to the load of the design, independent
-//    of the velocities and of the warm start (docs/physics.md, "A stopping rule ...").
+//    of the velocities and of the warm start (docs/physics.md, "Benchmark and accuracy", its
+//    paragraph "A stopping rule that does not loosen with the base's speed").
 enum class FastStop { Relative, Force };
 inline constexpr EnumNames<FastStop, 2> kFastStopNames{{{FastStop::Relative, "relative"}, {FastStop::Force, "force"}}};
 
@@ -119,6 +120,12 @@ class Simulator {
   // Undeformed placement at θ = 0, v = 0, t = 0, pressures 0, plate at z_touch (+ U sin(phase)
   // motion only starts with step()).
   void reset();
+  // Frees the factorisations and solves the simulator has stored as it ran (the fast method's
+  // references, the settled factor, the exact step's factor), keeping what construction built.
+  // They are rebuilt on demand exactly as a new simulator builds them, so results do not change;
+  // for a simulator that waits unused (core::SimulatorPool's idle ones), whose stored factors are
+  // most of its memory. Call reset() before using it again.
+  void drop_stored_factors();
   // What a settle() is for. Episode: dynamic steps follow, so the fast method ends with a
   // factorisation of the dynamic system at the settled state (their preconditioner). Reading:
   // only the settled state is read (the strain sensor's zero), then the simulator is reset; the

@@ -89,4 +89,39 @@ TEST(Snapshot, RejectsEmptyOrForeignSnapshots) {
   EXPECT_THROW(a.restore(b.snapshot()), std::invalid_argument);
 }
 
+// A simulator that gave up its stored factors (what the simulator pool does to the simulators it
+// keeps idle) runs an episode bit for bit as a new simulator of the same model does, with the
+// fast step and with the exact step; and it factorises again, as a new one does.
+TEST(Snapshot, DroppedFactorsLeaveNoTraceInTheNextEpisode) {
+  const auto model = build_whisker_model(21, WhiskerModelSpec{});
+  for (const StepMethod method : {StepMethod::Fast, StepMethod::Exact}) {
+    SolverConfig so;
+    so.method = method;
+    const auto episode = [&](Simulator& sim) {
+      sim.reset();
+      sim.set_pressures_kPa(6.0, 0.0);
+      sim.set_plate_phase(0.5);
+      EXPECT_TRUE(sim.settle().ok());
+      return steps(sim);
+    };
+    Simulator fresh(model, SceneConfig{}, so);
+    const int before = fresh.factorisations();
+    const Trace want = episode(fresh);
+    const int per_episode = fresh.factorisations() - before;
+    ASSERT_GT(per_episode, 0);
+
+    Simulator used(model, SceneConfig{}, so);
+    used.reset();
+    used.set_pressures_kPa(12.0, 0.0);
+    ASSERT_TRUE(used.settle().ok());
+    steps(used);
+    used.drop_stored_factors();
+    const int used_before = used.factorisations();
+    const Trace got = episode(used);
+    EXPECT_EQ(got.force, want.force) << (method == StepMethod::Fast ? "fast" : "exact");
+    EXPECT_TRUE(got.x == want.x);
+    EXPECT_EQ(used.factorisations() - used_before, per_episode);  // everything built again
+  }
+}
+
 }  // namespace
