@@ -6,6 +6,7 @@
 #include <string>
 #include <utility>
 
+#include "base/peak_memory.hpp"
 #include "base/thread_cpu_seconds.hpp"
 #include "fem/design.hpp"
 
@@ -121,25 +122,33 @@ void SimulatorPool::release(int design, std::unique_ptr<fem::Simulator> sim) {
   // Its stored factors would be rebuilt by the next user anyway (reset() leaves no trace), and
   // they are most of its memory.
   sim->drop_stored_factors();
-  // Destroyed outside the lock (declared before it).
-  std::unique_ptr<fem::Simulator> evicted;
-  std::vector<std::shared_ptr<const fem::Model>> dropped;
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (leased_ > 0) --leased_;
-  idle_.push_back(Idle{design, std::move(sim)});
-  if (idle_.size() > std::max<std::size_t>(peak_leased_, 1)) {
-    --live_[idle_.front().design];
-    evicted = std::move(idle_.front().sim);
-    idle_.pop_front();
+  bool trim = false;
+  {
+    std::unique_ptr<fem::Simulator> evicted;  // both destroyed outside the lock
+    std::vector<std::shared_ptr<const fem::Model>> dropped;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (leased_ > 0) --leased_;
+    idle_.push_back(Idle{design, std::move(sim)});
+    const std::size_t bound = std::max<std::size_t>(peak_leased_, 1);
+    if (idle_.size() > bound) {
+      --live_[idle_.front().design];
+      evicted = std::move(idle_.front().sim);
+      idle_.pop_front();
+    }
+    // Models of designs without a simulator that no one has asked for in a while.
+    const std::uint64_t window = model_keep_window_locked();
+    for (int d = 0; d < fem::kDesignCount; ++d) {
+      if (!models_[d] || live_[d] > 0 || acquisitions_ - last_used_[d] <= window) continue;
+      dropped.push_back(std::move(models_[d]));
+      models_[d] = nullptr;
+      ++built_.dropped;
+    }
+    // About once per iteration of a run (as many returns as environments), the pages all this
+    // freed go back to the system: left in the allocator's arenas they were a fifth of a
+    // paper-size run's resident memory (docs/memory.md).
+    trim = ++returns_ % bound == 0;
   }
-  // Models of designs without a simulator that no one has asked for in a while.
-  const std::uint64_t window = model_keep_window_locked();
-  for (int d = 0; d < fem::kDesignCount; ++d) {
-    if (!models_[d] || live_[d] > 0 || acquisitions_ - last_used_[d] <= window) continue;
-    dropped.push_back(std::move(models_[d]));
-    models_[d] = nullptr;
-    ++built_.dropped;
-  }
+  if (trim) give_back_free_heap();
 }
 
 std::uint64_t SimulatorPool::model_keep_window_locked() const {
