@@ -20,9 +20,4 @@ inline double heap_in_use_mib() {
   return static_cast<double>(m.uordblks + m.hblkhd) / (1024.0 * 1024.0);
 }
 
-// Gives the heap's free pages back to the system (glibc's malloc_trim). Memory a program frees
-// stays in its allocator's arenas, counted in its resident size, until reused; a process that
-// frees and allocates large blocks in turn (factorisations) holds far more than it uses.
-inline void give_back_free_heap() { malloc_trim(0); }
-
 }  // namespace codesign

@@ -6,7 +6,6 @@
 #include <string>
 #include <utility>
 
-#include "base/peak_memory.hpp"
 #include "base/thread_cpu_seconds.hpp"
 #include "fem/design.hpp"
 
@@ -122,7 +121,6 @@ void SimulatorPool::release(int design, std::unique_ptr<fem::Simulator> sim) {
   // Its stored factors would be rebuilt by the next user anyway (reset() leaves no trace), and
   // they are most of its memory.
   sim->drop_stored_factors();
-  bool trim = false;
   {
     std::unique_ptr<fem::Simulator> evicted;  // both destroyed outside the lock
     std::vector<std::shared_ptr<const fem::Model>> dropped;
@@ -143,12 +141,7 @@ void SimulatorPool::release(int design, std::unique_ptr<fem::Simulator> sim) {
       models_[d] = nullptr;
       ++built_.dropped;
     }
-    // About once per iteration of a run (as many returns as environments), the pages all this
-    // freed go back to the system: left in the allocator's arenas they were a fifth of a
-    // paper-size run's resident memory (docs/memory.md).
-    trim = ++returns_ % bound == 0;
   }
-  if (trim) give_back_free_heap();
 }
 
 std::uint64_t SimulatorPool::model_keep_window_locked() const {

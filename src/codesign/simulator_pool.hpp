@@ -16,8 +16,7 @@
 //    the idle simulator returned longest ago, whatever its design;
 //  * a design's model is dropped once no simulator of it is left and no simulator of it has been
 //    asked for in the last kModelKeepRounds × ψ requests (about that many iterations of a run);
-//    asked for again, it is meshed again, to the same bits (meshing is deterministic);
-//  * after every ψ returns the heap's free pages go back to the system (base/peak_memory.hpp).
+//    asked for again, it is meshed again, to the same bits (meshing is deterministic).
 //
 // Thread-safe: acquire()/release() may be called from the rollout threads concurrently.
 #include <cstddef>
@@ -106,7 +105,6 @@ class SimulatorPool {
   std::vector<int> live_;                  // per design: its simulators, leased or idle
   std::vector<std::uint64_t> last_used_;   // per design: acquisitions_ when last asked for or built
   std::uint64_t acquisitions_ = 0;         // simulators asked for so far
-  std::uint64_t returns_ = 0;              // simulators given back so far
   std::uint64_t model_keep_window_locked() const;
   std::vector<std::unique_ptr<std::mutex>> build_mutex_;               // per design
   BuildStats built_;
