@@ -145,7 +145,15 @@ void SimulatorPool::release(int design, std::unique_ptr<fem::Simulator> sim) {
 }
 
 std::uint64_t SimulatorPool::model_keep_window_locked() const {
-  return kModelKeepRounds * std::max<std::uint64_t>(peak_leased_, 1);
+  // A design drawn uniformly from D designs is asked for once in D requests on average, so a
+  // window of a few times D (and of the idle bound, were it larger) keeps the models of a
+  // distribution that still explores; (1 - 1/D)^(4D) < 2 % of them go between two draws.
+  return kModelKeepRounds * std::max<std::uint64_t>(std::max<std::size_t>(peak_leased_, 1), fem::kDesignCount);
+}
+
+std::uint64_t SimulatorPool::model_keep_window() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return model_keep_window_locked();
 }
 
 std::size_t SimulatorPool::models_held() const {

@@ -15,7 +15,8 @@
 //    leased at once — for a run, its number of environments ψ: a return over that bound destroys
 //    the idle simulator returned longest ago, whatever its design;
 //  * a design's model is dropped once no simulator of it is left and no simulator of it has been
-//    asked for in the last kModelKeepRounds × ψ requests (about that many iterations of a run);
+//    asked for in the last model_keep_window() requests (4 × the design count: while the
+//    distribution explores, a design is asked for about once in every design-count requests);
 //    asked for again, it is meshed again, to the same bits (meshing is deterministic).
 //
 // Thread-safe: acquire()/release() may be called from the rollout threads concurrently.
@@ -61,9 +62,11 @@ class SimulatorPool {
   std::size_t leased() const;
   // Designs whose model the pool holds now.
   std::size_t models_held() const;
-  // A model without simulators is dropped after this many times the idle bound of requests for
-  // simulators (of any design) without one for it.
-  static constexpr std::uint64_t kModelKeepRounds = 8;
+  // A model without simulators is dropped after model_keep_window() requests for simulators (of
+  // any design) without one for it: kModelKeepRounds times the larger of the design count and
+  // the idle bound.
+  static constexpr std::uint64_t kModelKeepRounds = 4;
+  std::uint64_t model_keep_window() const;
 
   const fem::SceneConfig& scene() const { return scene_; }
   const fem::SolverConfig& solver() const { return solver_; }

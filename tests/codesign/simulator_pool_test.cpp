@@ -114,7 +114,8 @@ TEST(SimulatorPool, AModelUnaskedForAWhileIsDroppedAndMeshedAgainToTheSameBits) 
     pool.release(1, std::move(a));
     pool.release(2, std::move(b));
   }
-  const std::uint64_t window = SimulatorPool::kModelKeepRounds * 2;
+  const std::uint64_t window = pool.model_keep_window();
+  EXPECT_EQ(window, SimulatorPool::kModelKeepRounds * static_cast<std::uint64_t>(fem::kDesignCount));
   // Two environments alternating between designs 3 and 4: their returns evict 1's and 2's idle
   // simulators at once, and after `window` requests without 1 or 2 their models go too.
   int requests = 2;
