@@ -133,8 +133,9 @@ void Simulator::drop_stored_factors() {
     r.cols = {};
     r.valid = false;
   };
+  // The references at the reset placement stay: every episode of the design starts from them
+  // (they are the same whatever the episodes before), so keeping them is what reuse saves.
   for (Impl::RefSlot& sl : m.slots) {
-    drop(sl.rest);
     drop(sl.cur);
     sl.use = Impl::RefSlot::Use::Rest;
   }

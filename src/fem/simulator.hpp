@@ -121,7 +121,8 @@ class Simulator {
   // motion only starts with step()).
   void reset();
   // Frees the factorisations and solves the simulator has stored as it ran (the fast method's
-  // references, the settled factor, the exact step's factor), keeping what construction built.
+  // references at deformed states, the settled factor, the exact step's factor), keeping what
+  // construction built and the references at the reset placement, which every episode reuses.
   // They are rebuilt on demand exactly as a new simulator builds them, so results do not change;
   // for a simulator that waits unused (core::SimulatorPool's idle ones), whose stored factors are
   // most of its memory. Call reset() before using it again.

@@ -91,7 +91,7 @@ TEST(Snapshot, RejectsEmptyOrForeignSnapshots) {
 
 // A simulator that gave up its stored factors (what the simulator pool does to the simulators it
 // keeps idle) runs an episode bit for bit as a new simulator of the same model does, with the
-// fast step and with the exact step; and it factorises again, as a new one does.
+// fast step and with the exact step; it keeps only the reset placement's references.
 TEST(Snapshot, DroppedFactorsLeaveNoTraceInTheNextEpisode) {
   const auto model = build_whisker_model(21, WhiskerModelSpec{});
   for (const StepMethod method : {StepMethod::Fast, StepMethod::Exact}) {
@@ -120,7 +120,13 @@ TEST(Snapshot, DroppedFactorsLeaveNoTraceInTheNextEpisode) {
     const Trace got = episode(used);
     EXPECT_EQ(got.force, want.force) << (method == StepMethod::Fast ? "fast" : "exact");
     EXPECT_TRUE(got.x == want.x);
-    EXPECT_EQ(used.factorisations() - used_before, per_episode);  // everything built again
+    // Everything but the reset placement's references is built again.
+    if (method == StepMethod::Fast) {
+      EXPECT_LT(used.factorisations() - used_before, per_episode);
+      EXPECT_GT(used.factorisations() - used_before, 0);
+    } else {
+      EXPECT_EQ(used.factorisations() - used_before, per_episode);
+    }
   }
 }
 
