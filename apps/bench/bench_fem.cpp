@@ -155,7 +155,7 @@ int run_bench(const BenchFemOptions& opt) {
               fm <= 1e-3 ? "met" : "NOT met", em / fm >= 10.0 ? "met" : "NOT met", rel_max <= 0.01 ? "met" : "NOT met");
   // What a run's simulator pool holds per design and per simulator (docs/memory.md).
   std::printf("  memory (heap in use): model %.2f MiB; fast-step simulator new %.2f MiB, after the episode %.2f MiB, "
-              "idle in the pool (stored factors dropped) %.2f MiB; peak resident %.0f MiB\n",
+              "idle in the pool (drop_stored_factors) %.2f MiB; peak resident %.0f MiB\n",
               heap_model, fast.heap_new, fast.heap_used, fast.heap_dropped, peak_resident_mib());
   return 0;
 }

@@ -118,8 +118,8 @@ std::unique_ptr<fem::Simulator> SimulatorPool::acquire(int design) {
 
 void SimulatorPool::release(int design, std::unique_ptr<fem::Simulator> sim) {
   if (!sim) return;
-  // Its stored factors would be rebuilt by the next user anyway (reset() leaves no trace), and
-  // they are most of its memory.
+  // The factors it stored at deformed states would be rebuilt by the next user anyway (reset()
+  // leaves no trace), and they are most of its memory.
   sim->drop_stored_factors();
   {
     std::unique_ptr<fem::Simulator> evicted;  // both destroyed outside the lock
@@ -127,8 +127,7 @@ void SimulatorPool::release(int design, std::unique_ptr<fem::Simulator> sim) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (leased_ > 0) --leased_;
     idle_.push_back(Idle{design, std::move(sim)});
-    const std::size_t bound = std::max<std::size_t>(peak_leased_, 1);
-    if (idle_.size() > bound) {
+    if (idle_.size() > idle_limit_locked()) {
       --live_[idle_.front().design];
       evicted = std::move(idle_.front().sim);
       idle_.pop_front();
@@ -148,8 +147,10 @@ std::uint64_t SimulatorPool::model_keep_window_locked() const {
   // A design drawn uniformly from D designs is asked for once in D requests on average, so a
   // window of a few times D (and of the idle bound, were it larger) keeps the models of a
   // distribution that still explores; (1 - 1/D)^(4D) < 2 % of them go between two draws.
-  return kModelKeepRounds * std::max<std::uint64_t>(std::max<std::size_t>(peak_leased_, 1), fem::kDesignCount);
+  return kModelKeepRounds * std::max<std::uint64_t>(idle_limit_locked(), fem::kDesignCount);
 }
+
+std::size_t SimulatorPool::idle_limit_locked() const { return std::max<std::size_t>(peak_leased_, 1); }
 
 std::uint64_t SimulatorPool::model_keep_window() const {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -163,7 +164,7 @@ std::size_t SimulatorPool::models_held() const {
 
 std::size_t SimulatorPool::idle_limit() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return std::max<std::size_t>(peak_leased_, 1);
+  return idle_limit_locked();
 }
 
 std::size_t SimulatorPool::idle() const {

@@ -9,8 +9,9 @@
 // object an episode gets never changes its result: leasing only saves construction time.
 //
 // Memory is bounded by what the run uses now, not by its history (docs/memory.md):
-//  * a returned simulator gives up the factorisations it stored (fem::Simulator::
-//    drop_stored_factors; the next user rebuilds them as a new simulator would);
+//  * a returned simulator gives up the factorisations it stored at deformed states
+//    (fem::Simulator::drop_stored_factors; the next user rebuilds them as a new simulator
+//    would), keeping the ones at the reset placement that every episode of the design reuses;
 //  * the pool keeps at most as many idle (returned, not leased) simulators as the most it has had
 //    leased at once — for a run, its number of environments ψ: a return over that bound destroys
 //    the idle simulator returned longest ago, whatever its design;
@@ -50,8 +51,8 @@ class SimulatorPool {
   std::vector<int> take_meshed();
   // A simulator of the design, in an arbitrary earlier state: call reset() before use.
   std::unique_ptr<fem::Simulator> acquire(int design);
-  // Gives a simulator of `design` back for reuse (nullptr is ignored), without its stored
-  // factors; destroys the idle simulator returned longest ago if the idle ones then exceed
+  // Gives a simulator of `design` back for reuse (nullptr is ignored), without the factors it
+  // stored at deformed states; destroys the idle simulator returned longest ago if the idle ones then exceed
   // idle_limit().
   void release(int design, std::unique_ptr<fem::Simulator> sim);
 
@@ -108,6 +109,7 @@ class SimulatorPool {
   std::vector<int> live_;                  // per design: its simulators, leased or idle
   std::vector<std::uint64_t> last_used_;   // per design: acquisitions_ when last asked for or built
   std::uint64_t acquisitions_ = 0;         // simulators asked for so far
+  std::size_t idle_limit_locked() const;
   std::uint64_t model_keep_window_locked() const;
   std::vector<std::unique_ptr<std::mutex>> build_mutex_;               // per design
   BuildStats built_;
