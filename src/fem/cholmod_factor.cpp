@@ -24,6 +24,7 @@ struct CholmodFactor::Impl {
   // lower triangle of its diagonal block (l10, l20, l21), 1/D of its three pivots, and its
   // off-diagonal blocks (first row of the block, values row-major).
   bool blocked = false;
+  long nonzeros = 0;                // of the last factorisation's L
   std::vector<int> perm;            // perm[k]: original index of pivot k
   std::vector<double> diag_l;       // 3 per block column
   std::vector<double> inv_d;        // 1 per unknown
@@ -68,11 +69,12 @@ void CholmodFactor::analyse(int n, const std::vector<int>& colptr, const std::ve
   m.n = n;
   m.ok = false;
   const std::size_t nnz = rowind.size();
-  m.A = cholmod_allocate_sparse(n, n, nnz, 1, 1, 1, CHOLMOD_REAL, &m.c);
+  // The pattern only: factorise() lends CHOLMOD the caller's values for the one call, so a
+  // stored factor carries no copy of its matrix.
+  m.A = cholmod_allocate_sparse(n, n, nnz, 1, 1, 1, CHOLMOD_PATTERN, &m.c);
   if (!m.A) throw std::runtime_error("CHOLMOD: cannot allocate the system matrix");
   std::memcpy(m.A->p, colptr.data(), sizeof(int) * (n + 1));
   std::memcpy(m.A->i, rowind.data(), sizeof(int) * nnz);
-  std::memset(m.A->x, 0, sizeof(double) * nnz);
   m.nodal = dofs_per_node == 3 && n % 3 == 0 && n > 0;
   m.blocked = false;
   if (m.nodal) {
@@ -116,8 +118,12 @@ void CholmodFactor::analyse(int n, const std::vector<int>& colptr, const std::ve
 bool CholmodFactor::factorise(const std::vector<double>& values) {
   Impl& m = *impl_;
   if (!m.A || values.size() != m.A->nzmax) return false;
-  std::memcpy(m.A->x, values.data(), sizeof(double) * values.size());
+  // cholmod_factorize only reads A.
+  m.A->x = const_cast<double*>(values.data());
+  m.A->xtype = CHOLMOD_REAL;
   const int ok = cholmod_factorize(m.A, m.L, &m.c);
+  m.A->x = nullptr;
+  m.A->xtype = CHOLMOD_PATTERN;
   m.ok = ok && m.c.status == CHOLMOD_OK && static_cast<int>(m.L->minor) >= m.n;
   if (m.ok && !m.L->is_super && !m.L->is_ll) {
     // A simplicial LDLᵀ factorisation succeeds on an indefinite matrix too (with negative
@@ -127,7 +133,12 @@ bool CholmodFactor::factorise(const std::vector<double>& values) {
     for (int j = 0; j < m.n && m.ok; ++j) m.ok = Lx[Lp[j]] > 0.0;
   }
   m.blocked = false;
+  m.nonzeros = m.ok ? static_cast<long>(m.L->is_super ? m.L->xsize : m.L->nzmax) : 0;
   if (m.ok && m.nodal) m.build_blocks();
+  // Once the block copy holds the factor, CHOLMOD's own copy is dead weight until the next
+  // factorisation: turn it back into the symbolic factor (ordering and column counts), about
+  // half of what a stored factor costs. The next factorise() computes the same values into it.
+  if (m.blocked) cholmod_change_factor(CHOLMOD_PATTERN, false, false, true, true, m.L, &m.c);
   return m.ok;
 }
 
@@ -256,11 +267,6 @@ void CholmodFactor::solve(const Eigen::MatrixXd& Bm, Eigen::MatrixXd& Xm) {
 
 bool CholmodFactor::block_solves() const { return impl_->ok && impl_->blocked; }
 
-long CholmodFactor::factor_nonzeros() const {
-  const cholmod_factor* L = impl_->L;
-  if (!L) return 0;
-  if (L->is_super) return static_cast<long>(L->xsize);
-  return static_cast<long>(L->nzmax);
-}
+long CholmodFactor::factor_nonzeros() const { return impl_->ok ? impl_->nonzeros : 0; }
 
 }  // namespace codesign::fem

@@ -45,15 +45,12 @@ std::shared_ptr<const Model> build_model(TetMesh mesh, const ModelOptions& optio
   const int n = static_cast<int>(mesh.nodes.size());
   m->rest_positions.resize(3 * n);
   for (int i = 0; i < n; ++i) m->rest_positions.segment<3>(3 * i) = mesh.nodes[i];
-  const double mu = m->material.lame_mu(), lambda = m->material.lame_lambda();
   m->rest.reserve(mesh.tets.size());
-  m->k0.reserve(mesh.tets.size());
   Eigen::VectorXd node_volume = Eigen::VectorXd::Zero(n);
   for (const Tet& t : mesh.tets) {
     for (int a : t)
       if (a < 0 || a >= n) throw std::invalid_argument("build_model: tet refers to a missing node");
     m->rest.push_back(make_tet_rest({mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]], mesh.nodes[t[3]]}));
-    m->k0.push_back(rest_stiffness(m->rest.back(), mu, lambda));
     m->volume_mm3 += m->rest.back().volume;
     for (int a : t) node_volume[a] += 0.25 * m->rest.back().volume;
   }

@@ -34,8 +34,10 @@ struct ModelOptions {
 struct Model {
   TetMesh mesh;
   Material material;
-  std::vector<TetRest> rest;          // per tet
-  std::vector<Mat12> k0;              // per tet rest stiffness
+  // Per tet. The rest stiffness is not stored: it would be four fifths of the model's memory,
+  // and rest_stiffness() rebuilds it, to the same bits, for the few passes that need it
+  // (assembling a system to factorise, the static tangent).
+  std::vector<TetRest> rest;
   Eigen::VectorXd rest_positions;     // 3N, node-major, whisker frame
   Eigen::VectorXd lumped_mass;        // N [g]
   double volume_mm3 = 0.0;

@@ -85,9 +85,9 @@ Mat12 element_tangent(const Model& model, int e, const Eigen::VectorXd& x, Stati
   const TetRest& rest = model.rest[static_cast<std::size_t>(e)];
   const Eigen::Matrix3d F = deformation_gradient(rest, element_positions(model, e, x));
   const Eigen::Matrix3d R = polar_rotation_svd(F);
-  if (kind == StaticTangent::Corotational) return corotated_stiffness(model.k0[static_cast<std::size_t>(e)], R);
-
   const double mu = model.material.lame_mu(), lambda = model.material.lame_lambda();
+  if (kind == StaticTangent::Corotational) return corotated_stiffness(rest_stiffness(rest, mu, lambda), R);
+
   Eigen::Matrix3d S = R.transpose() * F;
   S = 0.5 * (S + S.transpose()).eval();
   const double tr_strain = S.trace() - 3.0;

@@ -104,10 +104,11 @@ void assemble_system(const Model& model, const std::vector<int>& free_index,
   const int n = model.node_count();
   for (int i = 0; i < n; ++i)
     if (free_index[i] >= 0) a.add_diagonal(free_index[i], c_m * model.lumped_mass[i]);
+  const double mu = model.material.lame_mu(), lambda = model.material.lame_lambda();
   for (std::size_t e = 0; e < model.mesh.tets.size(); ++e) {
     const Tet& t = model.mesh.tets[e];
     const Eigen::Matrix3d& R = rotations[e];
-    const Mat12& k0 = model.k0[e];
+    const Mat12 k0 = rest_stiffness(model.rest[e], mu, lambda);
     for (int p = 0; p < 4; ++p) {
       const int fp = free_index[t[p]];
       if (fp < 0) continue;

@@ -42,8 +42,9 @@ TEST(SimulatorPool, AdoptsAnotherPoolsMeshInsteadOfMeshing) {
   EXPECT_EQ(s.seconds, s.adopt_seconds);
   EXPECT_EQ(s.seconds_per_model(), 0.0);
   EXPECT_TRUE(adopted->rest_positions == meshed->rest_positions);
-  ASSERT_EQ(adopted->k0.size(), meshed->k0.size());
-  for (std::size_t e = 0; e < adopted->k0.size(); ++e) ASSERT_TRUE(adopted->k0[e] == meshed->k0[e]) << "tet " << e;
+  ASSERT_EQ(adopted->rest.size(), meshed->rest.size());
+  for (std::size_t e = 0; e < meshed->rest.size(); ++e)
+    ASSERT_TRUE(adopted->rest[e].grad == meshed->rest[e].grad && adopted->rest[e].volume == meshed->rest[e].volume) << "tet " << e;
   EXPECT_EQ(adopted->fibres.size(), meshed->fibres.size());
 
   // A simulator of the adopted model counts as a simulator, not as a model.
@@ -140,8 +141,9 @@ TEST(SimulatorPool, AModelUnaskedForAWhileIsDroppedAndMeshedAgainToTheSameBits) 
   EXPECT_EQ(pool.build_stats().models, meshed + 1);
   EXPECT_NE(again.get(), first.get());
   EXPECT_TRUE(again->rest_positions == first->rest_positions);
-  ASSERT_EQ(again->k0.size(), first->k0.size());
-  for (std::size_t e = 0; e < first->k0.size(); ++e) ASSERT_TRUE(again->k0[e] == first->k0[e]) << "tet " << e;
+  ASSERT_EQ(again->rest.size(), first->rest.size());
+  for (std::size_t e = 0; e < first->rest.size(); ++e)
+    ASSERT_TRUE(again->rest[e].grad == first->rest[e].grad && again->rest[e].volume == first->rest[e].volume) << "tet " << e;
   EXPECT_EQ(again->fibres.size(), first->fibres.size());
 }
 
