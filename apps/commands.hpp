@@ -21,6 +21,7 @@ void add_train_gym_command(CLI::App& root, Runner& run);  // cmd_train_gym.cpp
 void add_figures_command(CLI::App& root, Runner& run);    // cmd_figures.cpp
 void add_render_command(CLI::App& root, Runner& run);     // cmd_render.cpp
 void add_check_command(CLI::App& root, Runner& run);      // cmd_check.cpp
+void add_config_keys_command(CLI::App& root, Runner& run);  // cmd_config_keys.cpp
 void add_baseline_command(CLI::App& root, Runner& run);   // cmd_baseline.cpp (`baseline pid`)
 void add_sweep_command(CLI::App& root, Runner& run);      // cmd_sweep.cpp
 void add_refine_command(CLI::App& root, Runner& run);     // cmd_refine.cpp

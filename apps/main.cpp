@@ -80,6 +80,7 @@ int run_command(int argc, char** argv) {
   app::add_train_gym_command(root, run);
   app::add_figures_command(root, run);
   app::add_check_command(root, run);
+  app::add_config_keys_command(root, run);
   app::add_render_command(root, run);
   app::add_baseline_command(root, run);
   app::add_sweep_command(root, run);

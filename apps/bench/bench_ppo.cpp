@@ -32,6 +32,7 @@
 #include "io/gym_config.hpp"
 #include "minibatch_timing.hpp"
 #include "rl/gemm.hpp"
+#include "rl/config_tables.hpp"
 #include "rl/ppo.hpp"
 #include "rl/recurrent_ppo.hpp"
 
@@ -260,7 +261,8 @@ int run_bench(const BenchOptions& o) {
                          "this build/CPU does not have; allowed here: auto, float32\n");
     return 2;
   }
-  const rl::MatmulPrecision precision = io::matmul_precision_from_name(o.precision);
+  const rl::MatmulPrecision precision =
+      rl::resolve(value_of(rl::kMatmulChoiceNames, o.precision).value_or(rl::MatmulChoice::Auto));
 
   std::printf("PPO iteration benchmark (one thread, Eigen %d.%d.%d, SIMD: %s)\n",
               EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION,

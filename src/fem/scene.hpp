@@ -20,18 +20,6 @@
 
 namespace codesign::fem {
 
-// Allowed values of the SceneConfig fields (the [scene] reader, io::read_scene, checks these;
-// plate_phase is read in degrees).
-namespace scene_range {
-inline constexpr Range<double> inclination_deg{0.0, 80.0};
-inline constexpr Range<double> preload_mm{0.0, 30.0};
-inline constexpr Range<double> plate_amplitude_mm{0.0, 20.0};
-inline constexpr Range<double> plate_frequency_Hz{0.0, 20.0};
-inline constexpr Range<double> plate_phase_deg{-360.0, 360.0};
-inline constexpr Range<double> theta_limit_deg{0.1, 90.0};
-inline constexpr Range<int> settle_steps{1, 1000};
-}  // namespace scene_range
-
 struct SceneConfig {
   double inclination_deg = 30.0;    // α
   double preload_mm = 0.5;          // plate mean height above z_touch

@@ -64,32 +64,21 @@ inline constexpr EnumNames<FastStop, 2> kFastStopNames{{{FastStop::Relative, "re
 
 struct SolverConfig {
   StepMethod method = StepMethod::Fast;
-  double dt_s = 0.01;                 // in solver_range::dt_s
+  double dt_s = 0.01;
   double static_dt_s = 1.0;           // pseudo time step of static_step()/settle()
   // Fast: PCG on the free DOFs (active contacts and base fixed), preconditioned by the stored
   // factor; stops by the rule fast_stop at fast_tolerance, or after fast_max_iterations.
-  double fast_tolerance = 2e-3;       // in solver_range::fast_tolerance
+  double fast_tolerance = 2e-3;
   FastStop fast_stop = FastStop::Relative;  // "relative" | "force" ([solver] fast_stop)
-  int fast_max_iterations = 50;       // in solver_range::fast_max_iterations
+  int fast_max_iterations = 50;
   // Refactorise the stored factor at the current state when a step needed more than this many
   // PCG iterations in total.
-  int fast_refactor_iterations = 4;   // in solver_range::fast_refactor_iterations
+  int fast_refactor_iterations = 4;
   // Fast: an inactive candidate more than this below the plate after the solve enters the
   // active set (Exact: 1e-9 mm).
-  double contact_tolerance_mm = 1e-4; // in solver_range::contact_tolerance_mm
+  double contact_tolerance_mm = 1e-4;
   double contact_margin_mm = 1.0;     // candidates closer than this (after the free step) enter the LCP
 };
-
-// Allowed values of the SolverConfig fields (the [solver] reader, io::read_solver, checks these).
-namespace solver_range {
-inline constexpr Range<double> dt_s{1e-5, 0.1};
-inline constexpr Range<double> static_dt_s{1e-3, 100.0};
-inline constexpr Range<double> fast_tolerance{1e-12, 0.1};
-inline constexpr Range<std::int64_t> fast_max_iterations{1, 1000};
-inline constexpr Range<std::int64_t> fast_refactor_iterations{1, 1000};
-inline constexpr Range<double> contact_tolerance_mm{1e-9, 0.1};
-inline constexpr Range<double> contact_margin_mm{0.0, 10.0};
-}  // namespace solver_range
 
 enum class StepStatus { Ok, NonFinite, InvertedElement, SolverFailure, ContactFailure };
 inline constexpr EnumNames<StepStatus, 5> kStepStatusNames{{{StepStatus::Ok, "ok"},

@@ -38,6 +38,7 @@ class TomlTableWriter {
   void boolean(std::string_view key, bool v);
   void string(std::string_view key, std::string_view v);
   void integers(std::string_view key, const std::vector<int>& v);
+  void numbers(std::string_view key, const std::vector<double>& v);
   // For a reader that stores `scale * x` (e.g. 1e3 * kPa): writes the x, nearest stored / scale,
   // with scale * x == stored exactly (scale > 0). Every value such a reader produced has one.
   void scaled(std::string_view key, double stored, double scale);

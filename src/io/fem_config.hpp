@@ -1,26 +1,18 @@
 #pragma once
-// Readers for the simulator's config tables (units in the key names):
+// Readers for the simulator's config tables [material], [scene], [solver], [fibres] (their keys
+// are described in fem/config_tables.hpp) and for [sim], the scenario of `codesign sim`:
 //
-//   [material]  youngs_modulus_kPa, poisson_ratio, total_mass_g, gravity_mm_s2,
-//               rayleigh_mass_per_s, rayleigh_stiffness_s
-//   [scene]     inclination_deg, preload_mm, plate_amplitude_mm, plate_frequency_Hz,
-//               plate_phase_deg, theta_limit_deg, settle_steps, tip_region_mm
-//   [solver]    method ("fast" | "exact"), dt_s, static_dt_s, fast_tolerance,
-//               fast_stop ("relative" | "force"),
-//               fast_max_iterations, fast_refactor_iterations, contact_tolerance_mm,
-//               contact_margin_mm
-//   [fibres]    axial_stiffness_N, tension_only (the layout keys belong to the mesh reader)
 //   [sim]       design, pressures_kPa, theta_deg, theta_hold_steps, steps, vtk_every
 //
 // Every reader takes the root, reads its table and calls finish() on it (unknown keys are
-// errors) — except read_fibre_stiffness, which reads its key from a table shared with the
-// fibre layout and leaves finish() to the caller. Defaults are the value types' defaults.
+// errors). Defaults are the value types' defaults.
 #include <vector>
 
 #include "fem/material.hpp"
 #include "fem/scene.hpp"
 #include "fem/simulator.hpp"
 #include "fem/whisker_model.hpp"
+#include "fem/design.hpp"
 #include "io/toml_reader.hpp"
 
 namespace codesign::io {
@@ -33,13 +25,6 @@ struct SceneSettings {
 };
 SceneSettings read_scene(TableReader& root);
 fem::SolverConfig read_solver(TableReader& root);
-// The FEM part of [fibres]: axial_stiffness_N = EA of one fibre (default 50 N, range 0..1e4 N;
-// 0 disables the springs), tension_only (default false: bilateral springs, as SOFA's chains).
-struct FibreStiffness {
-  double axial_stiffness_uN = 5.0e7;
-  bool tension_only = false;
-};
-FibreStiffness read_fibre_stiffness(TableReader& fibres);
 
 // Every simulator table of a run config, as the run uses them: [material], [scene] (with
 // tip_region_mm into spec.model), [solver], [geometry], [mesh] (mesh_config.hpp) and [fibres]
@@ -62,6 +47,18 @@ struct SimScenario {
   int steps = 250;
   int vtk_every = 0;                        // 0: no VTK frames
 };
+template <class V>
+void describe_sim_table(V& v, SimScenario& s) {
+  v.integer({"design", "", "design index j"}, s.design, {0, fem::kDesignCount - 1});
+  v.numbers({"pressures_kPa", "kPa", "chamber pressures [p1] or [p1, p2] (p2 ignored for one chamber)"},
+            s.pressures_kPa, {0.0, 20.0}, {1, 2});
+  if (s.pressures_kPa.size() == 1) s.pressures_kPa.push_back(0.0);
+  v.numbers({"theta_deg", "deg", "base angle targets, one per hold interval; the last is kept"}, s.theta_deg,
+            {-90.0, 90.0}, {1, 100000});
+  v.integer({"theta_hold_steps", "", "steps over which each change of θ is spread"}, s.theta_hold_steps, {1, 100000});
+  v.integer({"steps", "", "simulation steps"}, s.steps, {1, 10'000'000});
+  v.integer({"vtk_every", "", "a VTK frame every this many steps (0: none)"}, s.vtk_every, {0, 10'000'000});
+}
 SimScenario read_sim_scenario(TableReader& root);
 
 }  // namespace codesign::io

@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 
+#include "base/enum_names.hpp"
 #include "io/toml_reader.hpp"
 #include "rl/ppo.hpp"
 #include "rl/trainer.hpp"
@@ -38,6 +39,40 @@ struct GymTrainConfig {
 // Absent optional fields (target_kl, ent_decay_*) keep the default's value. Cross-field rules
 // (ent_decay_start < ent_decay_end, both or neither) are checked here too. Does NOT call
 // table.finish(): a caller may read extra keys from the same table, then must call finish().
+enum class GymEnv { Pendulum };
+inline constexpr EnumNames<GymEnv, 1> kGymEnvNames{{{GymEnv::Pendulum, "pendulum"}}};
+
+// [env] of `codesign train-gym`.
+template <class V>
+void describe_env_table(V& v, GymTrainConfig& g) {
+  GymEnv env = value_of(kGymEnvNames, g.env_name).value_or(GymEnv::Pendulum);
+  v.choice({"name", "", "the task (Gymnasium's Pendulum-v1)"}, env, kGymEnvNames);
+  g.env_name = name_of(kGymEnvNames, env);
+  v.integer({"n_envs", "", "environments stepped per rollout"}, g.trainer.n_envs, {1, 4096});
+  v.integer({"n_threads", "", "threads stepping the environments (0: all cores)"}, g.trainer.n_threads, {0, 1024});
+  // Seeds up to 2^53 so every seed prints and parses exactly as a double too.
+  v.integer({"seed", "", "seed of every random stream"}, g.trainer.seed, {0, 9'007'199'254'740'992});
+  v.integer({"max_episode_steps", "", "time limit of an episode (Pendulum-v1: 200)"}, g.max_episode_steps,
+            {1, 100'000'000});
+}
+
+// [train] of `codesign train-gym`.
+template <class V>
+void describe_train_table(V& v, GymTrainConfig& g) {
+  v.integer({"total_timesteps", "", "environment steps over all environments"}, g.trainer.total_timesteps,
+            {1, 1'000'000'000'000});
+  v.integer({"eval_episodes", "", "episodes of the final evaluation"}, g.eval_episodes, {1, 100'000});
+  v.integer({"stats_window", "", "episodes in the running mean return (SB3's stats_window_size)"},
+            g.trainer.stats_window, {1, 1'000'000});
+  v.integer({"log_every_iterations", "", "a progress line every N iterations"}, g.log_every_iterations,
+            {1, 1'000'000});
+  v.integer({"checkpoint_every_iterations", "", "a policy file every N iterations (0: only the final one)"},
+            g.checkpoint_every_iterations, {0, 1'000'000});
+  v.boolean({"save_policy", "", "write the final policy file"}, g.save_policy);
+  v.text({"output_dir", "", "folder of the run's files"}, g.output_dir);
+  v.require(!g.output_dir.empty(), "output_dir", [] { return std::string("must not be empty"); });
+}
+
 rl::PpoConfig read_ppo_config(TableReader& table, const rl::PpoConfig& defaults = {});
 
 // What "auto" resolves to on this build/CPU.

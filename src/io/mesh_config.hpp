@@ -4,12 +4,9 @@
 //   [geometry]  length_mm, base_diameter_mm, tip_diameter_mm, proximal_cap_mm
 //   [mesh]      max_size_mm, radius_factor, wall_factor, grading, optimise_threshold,
 //               min_dihedral_deg, max_dihedral_deg, min_radius_ratio
-//   [fibres]    count, pitch_mm, points_per_turn, radial_inset_mm   (layout part only)
 //
-// read_geometry / read_mesh_options read `root.table(...)` and call finish() on it.
-// read_fibre_layout reads its keys from a [fibres] table it is given and does NOT call finish():
-// the table is shared with the FEM's fibre stiffness key (see fem_config.hpp).
-#include "fem/fibre_layout.hpp"
+// Both read `root.table(...)` and call finish() on it; the keys are described in
+// fem/config_tables.hpp. [fibres] is read with the other simulator tables (fem_config.hpp).
 #include "fem/whisker_geometry.hpp"
 #include "fem/whisker_mesh.hpp"
 #include "io/toml_reader.hpp"
@@ -20,6 +17,5 @@ namespace codesign::io {
 // fit the geometry read, otherwise InputError naming the table and the first design that fails.
 fem::WhiskerGeometry read_geometry(TableReader& root);
 fem::MeshOptions read_mesh_options(TableReader& root);
-fem::FibreLayoutOptions read_fibre_layout(TableReader& fibres);
 
 }  // namespace codesign::io

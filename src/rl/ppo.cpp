@@ -1,5 +1,8 @@
 #include "rl/ppo.hpp"
 
+#include "base/config_check.hpp"
+#include "rl/config_tables.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -50,61 +53,10 @@ double learning_rate_at(const PpoConfig& config, std::int64_t num_timesteps) {
   return config.learning_rate + f * (config.learning_rate_final - config.learning_rate);
 }
 
-namespace {
-
-std::string range_text(double lo, double hi) {
-  std::ostringstream os;
-  os << '[' << lo << ", " << hi << ']';
-  return os.str();
-}
-
-}  // namespace
-
-void validate(const PpoConfig& c) {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("PpoConfig: " + what); };
-  auto check = [&](const char* name, auto v, auto range) {
-    if (!range.contains(v)) {
-      fail(std::string(name) + " must be in " +
-           range_text(static_cast<double>(range.lo), static_cast<double>(range.hi)));
-    }
-  };
-  check("learning_rate", c.learning_rate, ppo_range::learning_rate);
-  check("n_steps", std::int64_t{c.n_steps}, ppo_range::n_steps);
-  check("batch_size", std::int64_t{c.batch_size}, ppo_range::batch_size);
-  check("n_epochs", std::int64_t{c.n_epochs}, ppo_range::n_epochs);
-  check("gamma", c.gamma, ppo_range::gamma);
-  check("gae_lambda", c.gae_lambda, ppo_range::gae_lambda);
-  check("clip_range", c.clip_range, ppo_range::clip_range);
-  check("ent_coef", c.ent_coef, ppo_range::ent_coef);
-  // A schedule window: both ends or neither, start < end.
-  auto check_window = [&](const std::string& prefix, const std::optional<std::int64_t>& start,
-                          const std::optional<std::int64_t>& end, Range<std::int64_t> range) {
-    if (start.has_value() != end.has_value()) fail(prefix + "_start and " + prefix + "_end must be given together");
-    if (!start) return;
-    check((prefix + "_start").c_str(), *start, range);
-    check((prefix + "_end").c_str(), *end, range);
-    if (!(*end > *start)) fail("need " + prefix + "_start < " + prefix + "_end");
-  };
-  check_window("ent_decay", c.ent_decay_start, c.ent_decay_end, ppo_range::ent_decay_timesteps);
-  check_window("lr_decay", c.lr_decay_start, c.lr_decay_end, ppo_range::lr_decay_timesteps);
-  check("learning_rate_final", c.learning_rate_final, ppo_range::learning_rate_final);
-  check("vf_coef", c.vf_coef, ppo_range::vf_coef);
-  check("max_grad_norm", c.max_grad_norm, ppo_range::max_grad_norm);
-  if (c.target_kl) check("target_kl", *c.target_kl, ppo_range::target_kl);
-  check("gru_hidden", std::int64_t{c.gru_hidden}, ppo_range::gru_hidden);
-  check("log_std_init", c.log_std_init, ppo_range::log_std_init);
-  if (c.log_std_min) {
-    check("log_std_min", *c.log_std_min, ppo_range::log_std_init);
-    if (!(c.log_std_init >= *c.log_std_min)) fail("need log_std_init >= log_std_min");
-  }
-  check("adam_eps", c.adam_eps, ppo_range::adam_eps);
-  if (c.matmul_precision == MatmulPrecision::BFloat16 && !bf16_gemm_available())
-    fail("matmul_precision bf16 needs AVX-512 BF16, which this build/CPU does not have");
-  for (const auto* hidden : {&c.actor_hidden, &c.critic_hidden}) {
-    const char* name = hidden == &c.actor_hidden ? "actor_hidden" : "critic_hidden";
-    check(name, static_cast<std::int64_t>(hidden->size()), ppo_range::hidden_layers);
-    for (int h : *hidden) check(name, std::int64_t{h}, ppo_range::hidden_size);
-  }
+void validate(const PpoConfig& config) {
+  PpoConfig c = config;  // the description takes the fields by reference
+  if (const auto p = config::first_problem([&](auto& v) { describe_ppo_table(v, c); }))
+    throw std::invalid_argument("PpoConfig: " + *p);
 }
 
 template <class S>

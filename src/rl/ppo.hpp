@@ -91,30 +91,6 @@ struct PpoConfig {
   MatmulPrecision matmul_precision = MatmulPrecision::Float32;
 };
 
-// Allowed values of the PpoConfig fields: validate() and the [ppo] reader (io::read_ppo_config)
-// both check these. target_kl and the entropy-decay timesteps apply when set.
-namespace ppo_range {
-inline constexpr Range<double> learning_rate{1e-9, 1.0};
-inline constexpr Range<std::int64_t> n_steps{1, 1'000'000};
-inline constexpr Range<std::int64_t> batch_size{1, 100'000'000};
-inline constexpr Range<std::int64_t> n_epochs{1, 10'000};
-inline constexpr Range<double> gamma{0.0, 1.0};
-inline constexpr Range<double> gae_lambda{0.0, 1.0};
-inline constexpr Range<double> clip_range{1e-6, 10.0};
-inline constexpr Range<double> ent_coef{0.0, 10.0};
-inline constexpr Range<std::int64_t> ent_decay_timesteps{0, 1'000'000'000'000};  // 1e12
-inline constexpr Range<std::int64_t> lr_decay_timesteps{0, 1'000'000'000'000};
-inline constexpr Range<double> learning_rate_final{0.0, 1.0};
-inline constexpr Range<double> vf_coef{0.0, 1000.0};
-inline constexpr Range<double> max_grad_norm{1e-9, 1e9};
-inline constexpr Range<double> target_kl{1e-9, 100.0};
-inline constexpr Range<std::int64_t> hidden_size{1, 8192};
-inline constexpr Range<std::int64_t> hidden_layers{1, 16};
-inline constexpr Range<std::int64_t> gru_hidden{1, 4096};
-inline constexpr Range<double> log_std_init{-20.0, 5.0};
-inline constexpr Range<double> adam_eps{1e-20, 1.0};
-}  // namespace ppo_range
-
 // The paper's settings (its Table I): lr 0.003, n_steps 50, batch 256, 10 epochs, gamma
 // 0.99, lambda 0.95, clip 0.2, ent 0.01 decaying to 0 between 220k and 800k steps, vf 0.6, grad
 // clip 0.5, target_kl 0.02, [512, 512, 512] actor and critic.
@@ -125,7 +101,8 @@ double entropy_coef_at(const PpoConfig& config, std::int64_t num_timesteps);
 // The learning rate of the update after num_timesteps (the lr_decay schedule above).
 double learning_rate_at(const PpoConfig& config, std::int64_t num_timesteps);
 
-// Throws std::invalid_argument naming the field if a value is outside its ppo_range.
+// Throws std::invalid_argument naming the field if a value is outside its range or breaks a
+// rule of the [ppo] description (rl/config_tables.hpp).
 void validate(const PpoConfig& config);
 
 // Projects log_std onto [log_std_min, inf) component by component when the config sets a floor

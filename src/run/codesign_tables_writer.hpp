@@ -17,10 +17,11 @@ namespace codesign::run {
 
 // [task] (observation as its name).
 void write_task_table(std::ostream& out, const core::TaskConfig& task);
-// [faults] (resolved_run_config writes it only when a fault is enabled).
-void write_faults_table(std::ostream& out, const core::FaultConfig& faults);
-// [codesign] (baseline as "none" / "single_design", plate_phase_deg in degrees).
-void write_codesign_table(std::ostream& out, const core::CodesignConfig& codesign);
+// [faults] of task (resolved_run_config writes it only when a fault is enabled).
+void write_faults_table(std::ostream& out, const core::TaskConfig& task);
+// [codesign] (baseline as "none" / "single_design", plate_phase_deg in degrees); task for the
+// ranges that depend on it.
+void write_codesign_table(std::ostream& out, const core::CodesignConfig& codesign, const core::TaskConfig& task);
 
 // The resolved config of a co-design run: a header comment, then [material], [scene],
 // [solver], [geometry], [mesh], [fibres] (io::write_fem_tables), [task], [faults] (if enabled), [codesign] and [ppo]

@@ -2,6 +2,7 @@
 
 #include "io/gym_config.hpp"
 #include "io/mesh_config.hpp"
+#include "io/table_keys.hpp"
 #include "run/codesign_tables_reader.hpp"
 
 namespace codesign::run {
@@ -30,12 +31,7 @@ RunConfig read_run_config(io::TableReader& root) {
     s.ppo = io::read_ppo_config(ppo, rl::paper_ppo_config());
     ppo.finish();
   }
-  {
-    io::TableReader tel = root.table("telemetry");
-    s.telemetry_url = tel.string("url", "");
-    s.telemetry_train_every = static_cast<int>(tel.integer("train_decision_every", 2, 0, 1000000));
-    tel.finish();
-  }
+  io::read_keys(root, "telemetry", [&](auto& v) { describe_telemetry_table(v, s.telemetry_url, s.telemetry_train_every); });
   s.render = io::read_render_config(root);
   root.finish();
   return s;

@@ -35,6 +35,13 @@ struct RunConfig {
   io::RenderConfig render;         // [render]: PNG frames (docs/rendering.md)
 };
 
+template <class V>
+void describe_telemetry_table(V& v, std::string& url, int& train_decision_every) {
+  v.text({"url", "", "LCM URL the run publishes to (docs/telemetry.md; \"\": none)"}, url);
+  v.integer({"train_decision_every", "", "every N-th decision of training environment 0 is published (0: none)"},
+            train_decision_every, {0, 1000000});
+}
+
 // Reads [geometry], [mesh], [fibres] (layout + stiffness), [material], [scene], [solver], [sim]
 // from the file, and validates
 // the other known tables of a run config ([task], [codesign], [ppo]) so one file serves all

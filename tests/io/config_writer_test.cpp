@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string>
 
+#include "rl/config_tables.hpp"
 #include "io/config_writer.hpp"
 #include "io/fem_config.hpp"
 #include "io/gym_config.hpp"
@@ -318,7 +319,7 @@ TEST(ConfigWriter, PpoPrecisionIsTheResolvedOne) {
   const rl::PpoConfig a = read_ppo("[ppo]\nmatmul_precision = \"auto\"\n", {});
   const std::string text = write_ppo(a);
   EXPECT_EQ(text.find("\"auto\""), std::string::npos);
-  const std::string expected = io::default_matmul_precision() == rl::MatmulPrecision::BFloat16 ? "bf16" : "float32";
+  const std::string expected = rl::resolve(rl::MatmulChoice::Auto) == rl::MatmulPrecision::BFloat16 ? "bf16" : "float32";
   EXPECT_NE(text.find("matmul_precision = \"" + expected + "\"\n"), std::string::npos) << text;
   EXPECT_EQ(read_ppo(text, {}).matmul_precision, a.matmul_precision);
 }

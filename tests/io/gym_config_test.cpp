@@ -5,6 +5,7 @@
 #include <string>
 
 #include "base/errors.hpp"
+#include "rl/config_tables.hpp"
 #include "io/gym_config.hpp"
 #include "rl/gemm.hpp"
 
@@ -165,7 +166,7 @@ TEST(GymConfig, MatmulPrecisionAbsentOrAutoIsTheBuildDefault) {
   const rl::MatmulPrecision expected = rl::bf16_gemm_available()
                                            ? rl::MatmulPrecision::BFloat16
                                            : rl::MatmulPrecision::Float32;
-  EXPECT_EQ(default_matmul_precision(), expected);
+  EXPECT_EQ(rl::resolve(rl::MatmulChoice::Auto), expected);
   EXPECT_EQ(parse("").trainer.ppo.matmul_precision, expected);
   EXPECT_EQ(parse("[ppo]\ngamma = 0.5\n").trainer.ppo.matmul_precision, expected);
   EXPECT_EQ(parse("[ppo]\nmatmul_precision = \"auto\"\n").trainer.ppo.matmul_precision, expected);

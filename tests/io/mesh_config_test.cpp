@@ -3,6 +3,7 @@
 #include <string>
 
 #include "base/errors.hpp"
+#include "io/fem_config.hpp"
 #include "io/mesh_config.hpp"
 #include "io/toml_reader.hpp"
 
@@ -13,11 +14,7 @@ namespace {
 std::string error_of(const std::string& toml) {
   try {
     io::TableReader root = io::TableReader::from_string(toml, "run.toml");
-    io::read_geometry(root);
-    io::read_mesh_options(root);
-    io::TableReader fibres = root.table("fibres");
-    io::read_fibre_layout(fibres);
-    fibres.finish();
+    io::read_fem_tables(root);
   } catch (const InputError& e) {
     return e.what();
   }
@@ -46,8 +43,7 @@ TEST(MeshConfig, ReadsValues) {
   const fem::MeshOptions o = io::read_mesh_options(root);
   EXPECT_EQ(o.max_size_mm, 4.0);
   EXPECT_EQ(o.quality.min_dihedral_deg, 6.0);
-  io::TableReader fibres = root.table("fibres");
-  const fem::FibreLayoutOptions f = io::read_fibre_layout(fibres);
+  const fem::FibreLayoutOptions f = io::read_fem_tables(root).spec.fibres;
   EXPECT_EQ(f.count, 4);
   EXPECT_EQ(f.pitch_mm, 2.5);
 }
