@@ -3,12 +3,12 @@
 //
 // Runs the co-design (Algorithm 1 + 2) of the config's [codesign], [task], [ppo] and simulator
 // tables, writing the run folder described in src/run/run.hpp, then its figures
-// (`codesign figures`) into RUN/figures/ (run/main_job.hpp).
+// (`codesign figures`) into RUN/figures/ (apps/main_job.hpp).
 #include <memory>
 
 #include "cli_options.hpp"
 #include "commands.hpp"
-#include "run/main_job.hpp"
+#include "main_job.hpp"
 
 namespace codesign::app {
 

@@ -32,7 +32,6 @@
 #include "io/gym_config.hpp"
 #include "minibatch_timing.hpp"
 #include "rl/gemm.hpp"
-#include "rl/config_tables.hpp"
 #include "rl/ppo.hpp"
 #include "rl/recurrent_ppo.hpp"
 

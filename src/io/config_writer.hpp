@@ -18,40 +18,11 @@
 #include <vector>
 
 #include "fem/simulator.hpp"
+#include "io/toml_writer.hpp"
 #include "fem/whisker_model.hpp"
 #include "rl/ppo.hpp"
 
 namespace codesign::io {
-
-// One TOML table, "key = value" per line, in the order written; the header at construction,
-// a blank line at destruction. Keys and strings are written as given (no escaping: the config
-// keys and their string values are plain identifiers).
-class TomlTableWriter {
- public:
-  TomlTableWriter(std::ostream& out, std::string_view table);
-  ~TomlTableWriter();
-  TomlTableWriter(const TomlTableWriter&) = delete;
-  TomlTableWriter& operator=(const TomlTableWriter&) = delete;
-
-  void number(std::string_view key, double v);
-  void integer(std::string_view key, std::int64_t v);
-  void boolean(std::string_view key, bool v);
-  void string(std::string_view key, std::string_view v);
-  void integers(std::string_view key, const std::vector<int>& v);
-  void numbers(std::string_view key, const std::vector<double>& v);
-  // For a reader that stores `scale * x` (e.g. 1e3 * kPa): writes the x, nearest stored / scale,
-  // with scale * x == stored exactly (scale > 0). Every value such a reader produced has one.
-  void scaled(std::string_view key, double stored, double scale);
-  // For a reader that stores `x * pi / 180.0` (a key in degrees read into radians): the same.
-  void degrees(std::string_view key, double stored_rad);
-
- private:
-  std::ostream& out_;
-};
-
-// A double as a TOML float, in the shortest form that reads back bit-identical ("0.3", "1e-05",
-// "500.0"; always with '.' or an exponent so TOML parses a float).
-std::string toml_number(double v);
 
 // [material], [scene] (with tip_region_mm of spec.model; plate_phase_deg in degrees), [solver]
 // (method "fast" / "exact"), [geometry] (not its design: the design index is chosen per run),

@@ -1,7 +1,6 @@
 #include "io/gym_config.hpp"
 
 #include "io/table_keys.hpp"
-#include "rl/config_tables.hpp"
 
 #include <cstdint>
 #include <optional>

@@ -16,7 +16,7 @@
 #include "base/config_keys.hpp"
 #include "base/enum_names.hpp"
 #include "base/range.hpp"
-#include "io/config_writer.hpp"
+#include "io/toml_writer.hpp"
 
 namespace codesign::io {
 

@@ -1,7 +1,6 @@
 #include "rl/ppo.hpp"
 
 #include "base/config_check.hpp"
-#include "rl/config_tables.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -3,7 +3,7 @@
 // (recurrent_ppo.cpp) so both log the same way: losses averaged over every minibatch processed
 // (the early-stopping one included, as SB3 logs before breaking), approx_kl over the minibatches
 // of the last epoch only (SB3 resets its list every epoch), grad_norm over the applied steps.
-#include "rl/ppo.hpp"
+#include "rl/ppo_stats.hpp"
 
 namespace codesign::rl {
 

@@ -7,7 +7,6 @@
 #include "io/fem_config.hpp"
 #include "io/gym_config.hpp"
 #include "io/render_config.hpp"
-#include "rl/config_tables.hpp"
 #include "run/run_config.hpp"
 
 namespace codesign::run {
@@ -109,7 +108,7 @@ std::string config_reference_markdown() {
   std::ostringstream out;
   out << "# Config keys\n\n"
          "Every key of every table, printed by `codesign config-keys` from the one description of each\n"
-         "table in the code (`describe_*_table` in `src/fem/config_tables.hpp`, `src/rl/config_tables.hpp`,\n"
+         "table in the code (`describe_*_table` in `src/fem/config_tables.hpp`, `src/rl/ppo.hpp`,\n"
          "`src/codesign/config_tables.hpp`, `src/io/` and `src/run/run_config.hpp`); a test checks that this\n"
          "page is what the code prints. How files are read, layered and checked: "
          "[configuring.md](configuring.md).\n\n"

@@ -10,11 +10,12 @@
 #include <sstream>
 
 #include "base/errors.hpp"
+#include "codesign/design_distribution.hpp"
 #include "fem/design.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_table.hpp"
 #include "io/run_lock.hpp"
-#include "run/run.hpp"
+#include "run/folder_lock.hpp"
 #include "run/run_config.hpp"
 #include "run/run_folder.hpp"
 

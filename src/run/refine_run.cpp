@@ -11,7 +11,7 @@
 #include "codesign/refine.hpp"
 #include "io/run_lock.hpp"
 #include "rl/policy_file.hpp"
-#include "run/run.hpp"
+#include "run/folder_lock.hpp"
 #include "run/run_config.hpp"
 #include "run/run_folder.hpp"
 

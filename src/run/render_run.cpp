@@ -14,7 +14,7 @@
 #include "io/run_lock.hpp"
 #include "rl/policy_file.hpp"
 #include "run/episode_render.hpp"
-#include "run/run.hpp"
+#include "run/folder_lock.hpp"
 #include "run/run_config.hpp"
 #include "run/run_folder.hpp"
 

@@ -9,7 +9,7 @@
 
 #include "codesign/env_pool.hpp"
 #include "codesign/simulator_pool.hpp"
-#include "run/run.hpp"
+#include "run/run_settings.hpp"
 
 namespace codesign::run {
 

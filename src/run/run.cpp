@@ -418,56 +418,6 @@ void print_result(const fs::path& dir, const ResultFile& rr, const DesignEvaluat
 
 }  // namespace
 
-std::unique_ptr<io::RunLock> lock_run_folder(const std::string& dir, bool only_if_exists) {
-  std::error_code ec;
-  if (only_if_exists && !fs::is_directory(dir, ec)) return nullptr;
-  auto lock = std::make_unique<io::RunLock>(dir);
-  if (!lock->stale_holder().empty())
-    std::fprintf(stderr, "codesign: %s was left by %s, which no longer runs (killed); taking the run folder over\n",
-                 lock->path().c_str(), lock->stale_holder().c_str());
-  return lock;
-}
-
-std::unique_ptr<io::RunLock> lock_run_folder_for_output(const std::string& dir, const std::string& out) {
-  std::error_code ec;
-  auto normal = [&ec](const std::string& p) {
-    fs::path n = fs::weakly_canonical(p, ec).lexically_normal();
-    return n.has_filename() ? n : n.parent_path();  // "runs/q/" as "runs/q"
-  };
-  const fs::path d = normal(dir), o = normal(out);
-  if (ec) return nullptr;
-  const auto [end, _] = std::mismatch(d.begin(), d.end(), o.begin(), o.end());
-  if (end != d.end()) return nullptr;
-  return lock_run_folder(dir, /*only_if_exists=*/true);
-}
-
-int stop_after_run(const std::string& dir, bool frames_left, bool figures_left) {
-  const int sig = stop_signal();
-  if (sig == 0 || (!frames_left && !figures_left)) return 0;
-  std::string what, how;
-  if (frames_left) {
-    what = "its frames";
-    how = "`codesign render --run " + dir + " -o " + (fs::path(dir) / run_file::kFramesDir / "best").string() + "`";
-  }
-  if (figures_left) {
-    what += what.empty() ? "its figures" : " and figures";
-    how += (how.empty() ? "" : " and ") + ("`codesign figures --run " + dir + "`");
-  }
-  std::fprintf(stderr, "codesign: %s: the run in %s is complete (result.toml); %s skipped: draw them with %s\n",
-               signal_name(sig).c_str(), dir.c_str(), what.c_str(), how.c_str());
-  return 128 + sig;
-}
-
-RunSettings run_settings(const RunConfig& c, std::string config_text) {
-  RunSettings s;
-  s.spec = c.spec;
-  s.scene = c.scene;
-  s.solver = c.solver;
-  s.loop = {c.task, c.codesign, c.ppo};
-  s.config_text = std::move(config_text);
-  return s;
-}
-
 RunResult run_codesign(const RunSettings& settings, const RunOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();
   const fs::path dir(options.dir);

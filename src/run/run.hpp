@@ -35,23 +35,14 @@
 #include "codesign/outer_loop.hpp"
 #include "fem/simulator.hpp"
 #include "fem/whisker_model.hpp"
-#include "run/run_config.hpp"
+#include "run/folder_lock.hpp"
+#include "run/run_settings.hpp"
 
 namespace codesign::io {
 class RunLock;
 }
 
 namespace codesign::run {
-
-struct RunSettings {
-  fem::WhiskerModelSpec spec;
-  fem::SceneConfig scene;
-  fem::SolverConfig solver;
-  core::LoopConfig loop;
-  std::string config_text;   // the config file's text (copied to config.input.toml)
-};
-// The settings of a run of `config` (its simulator tables and its [task], [codesign], [ppo]).
-RunSettings run_settings(const RunConfig& config, std::string config_text = {});
 
 struct RunOptions {
   std::string dir;
@@ -96,21 +87,5 @@ struct RunResult {
 };
 
 RunResult run_codesign(const RunSettings& settings, const RunOptions& options);
-
-// Takes DIR/.lock (creating DIR), or, with only_if_exists, returns null when DIR is not a folder
-// (a --resume, or a command that writes into a finished run folder: its own checks then say what
-// is missing). Throws InputError if another process holds the lock; says so on stderr when it
-// takes over the lock of a process that was killed.
-std::unique_ptr<io::RunLock> lock_run_folder(const std::string& dir, bool only_if_exists);
-
-// `codesign render --run DIR -o OUT`: the lock of DIR when OUT lies inside DIR (frames written
-// into the run folder), else null: it only reads DIR.
-std::unique_ptr<io::RunLock> lock_run_folder_for_output(const std::string& dir, const std::string& out);
-
-// After a completed run, before drawing its frames and/or figures (the flags say which are
-// still to come): if a signal asked to stop, prints one line saying that the run is complete,
-// what is skipped and the commands that draw it, and returns 128 + signal; otherwise (or with
-// nothing left to skip) returns 0.
-int stop_after_run(const std::string& dir, bool frames_left, bool figures_left);
 
 }  // namespace codesign::run

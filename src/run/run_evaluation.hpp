@@ -38,7 +38,7 @@
 #include <string>
 #include <vector>
 
-#include "run/run.hpp"
+#include "run/run_settings.hpp"
 
 namespace codesign::run {
 

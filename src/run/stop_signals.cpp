@@ -2,8 +2,12 @@
 
 #include <atomic>
 #include <csignal>
+#include <cstdio>
+#include <filesystem>
 
 #include <signal.h>
+
+#include "run/run_folder.hpp"
 
 namespace codesign::run {
 
@@ -58,6 +62,23 @@ std::string signal_name(int signo) {
   if (signo == SIGTERM) return "SIGTERM";
   if (signo == SIGINT) return "SIGINT";
   return "signal " + std::to_string(signo);
+}
+
+int stop_after_run(const std::string& dir, bool frames_left, bool figures_left) {
+  const int sig = stop_signal();
+  if (sig == 0 || (!frames_left && !figures_left)) return 0;
+  std::string what, how;
+  if (frames_left) {
+    what = "its frames";
+    how = "`codesign render --run " + dir + " -o " + (std::filesystem::path(dir) / run_file::kFramesDir / "best").string() + "`";
+  }
+  if (figures_left) {
+    what += what.empty() ? "its figures" : " and figures";
+    how += (how.empty() ? "" : " and ") + ("`codesign figures --run " + dir + "`");
+  }
+  std::fprintf(stderr, "codesign: %s: the run in %s is complete (result.toml); %s skipped: draw them with %s\n",
+               signal_name(sig).c_str(), dir.c_str(), what.c_str(), how.c_str());
+  return 128 + sig;
 }
 
 }  // namespace codesign::run

@@ -27,4 +27,10 @@ int stop_signal();
 // "SIGTERM", "SIGINT", or "signal N".
 std::string signal_name(int signo);
 
+// After a completed run, before drawing its frames and/or figures (the flags say which are
+// still to come): if a signal asked to stop, prints one line saying that the run is complete,
+// what is skipped and the commands that draw it, and returns 128 + signal; otherwise (or with
+// nothing left to skip) returns 0.
+int stop_after_run(const std::string& dir, bool frames_left, bool figures_left);
+
 }  // namespace codesign::run

@@ -8,7 +8,6 @@
 #include <sstream>
 #include <string>
 
-#include "rl/config_tables.hpp"
 #include "io/config_writer.hpp"
 #include "io/fem_config.hpp"
 #include "io/gym_config.hpp"

@@ -5,7 +5,6 @@
 #include <string>
 
 #include "base/errors.hpp"
-#include "rl/config_tables.hpp"
 #include "io/gym_config.hpp"
 #include "rl/gemm.hpp"
 

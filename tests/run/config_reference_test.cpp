@@ -16,10 +16,9 @@
 #include "io/gym_config.hpp"
 #include "io/render_config.hpp"
 #include "io/table_keys.hpp"
-#include "rl/config_tables.hpp"
 #include "run/codesign_tables_writer.hpp"
 #include "run/config_reference.hpp"
-#include "run/run.hpp"
+#include "run/run_settings.hpp"
 #include "run/run_config.hpp"
 #include "test_files.hpp"
 

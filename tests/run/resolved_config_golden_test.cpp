@@ -17,7 +17,7 @@
 
 #include "base/errors.hpp"
 #include "run/codesign_tables_writer.hpp"
-#include "run/run.hpp"
+#include "run/run_settings.hpp"
 #include "run/run_config.hpp"
 #include "test_files.hpp"
 

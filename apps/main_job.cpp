@@ -1,4 +1,4 @@
-#include "run/main_job.hpp"
+#include "main_job.hpp"
 
 #include <filesystem>
 #include <memory>
