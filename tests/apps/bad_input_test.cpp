@@ -254,7 +254,7 @@ std::vector<Case> cases() {
       cli("survey_designs_range", "survey --config DIR/tiny.toml -o DIR/survey --designs 3-110", {"--designs: '3-110' is not a design index or range A-B within 0..109"}),
       cli("sweep_designs_reversed", "sweep --config DIR/tiny.toml -o DIR/sweep --designs 9-4", {"--designs: '9-4' is not a design index or range A-B within 0..109"}),
       cli("sweep_threads_range", "sweep --config DIR/tiny.toml -o DIR/sweep --threads 1025", {"--threads", "1025", "1024"}),
-      cli("unknown_command", "frobnicate --config DIR/tiny.toml", {"unknown command 'frobnicate'", "allowed: run, survey, mesh, sim, train-gym, figures, check, render, baseline, sweep, refine, evaluate, bench"}),
+      cli("unknown_command", "frobnicate --config DIR/tiny.toml", {"unknown command 'frobnicate'", "allowed: run, survey, mesh, sim, train-gym, figures, check, config-keys, render, baseline, sweep, refine, evaluate, bench"}),
       cli("vtk_every_negative", "sim --config DIR/tiny.toml -o DIR/sim --vtk-every -3", {"--vtk-every", "-3"}),
       cli("check_unknown_file", "check DIR/tiny.toml", {"DIR/tiny.toml: not a file codesign reads", "allowed: a gmsh .msh 4.1 mesh"}),
       // ---- meshes (codesign check)
