@@ -9,21 +9,6 @@
 
 namespace codesign::io {
 
-fem::Material read_material(TableReader& root) {
-  fem::Material m;
-  read_keys(root, "material", [&](auto& v) { fem::describe_material_table(v, m); });
-  return m;
-}
-
-SceneSettings read_scene(TableReader& root) {
-  SceneSettings s;
-  fem::ModelOptions model;
-  model.tip_region_mm = s.tip_region_mm;
-  read_keys(root, "scene", [&](auto& v) { fem::describe_scene_table(v, s.scene, model); });
-  s.tip_region_mm = model.tip_region_mm;
-  return s;
-}
-
 fem::SolverConfig read_solver(TableReader& root) {
   fem::SolverConfig c;
   read_keys(root, "solver", [&](auto& v) { fem::describe_solver_table(v, c); });
@@ -32,10 +17,8 @@ fem::SolverConfig read_solver(TableReader& root) {
 
 FemTables read_fem_tables(TableReader& root) {
   FemTables f;
-  f.spec.model.material = read_material(root);
-  const SceneSettings sc = read_scene(root);
-  f.scene = sc.scene;
-  f.spec.model.tip_region_mm = sc.tip_region_mm;
+  read_keys(root, "material", [&](auto& v) { fem::describe_material_table(v, f.spec.model.material); });
+  read_keys(root, "scene", [&](auto& v) { fem::describe_scene_table(v, f.scene, f.spec.model); });
   f.solver = read_solver(root);
   f.spec.geometry = read_geometry(root);
   f.spec.mesh = read_mesh_options(root);

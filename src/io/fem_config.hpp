@@ -17,13 +17,6 @@
 
 namespace codesign::io {
 
-fem::Material read_material(TableReader& root);
-// The scene table also carries the contact-candidate region (a model option): tip_region_mm.
-struct SceneSettings {
-  fem::SceneConfig scene{};
-  double tip_region_mm = 6.0;
-};
-SceneSettings read_scene(TableReader& root);
 fem::SolverConfig read_solver(TableReader& root);
 
 // Every simulator table of a run config, as the run uses them: [material], [scene] (with

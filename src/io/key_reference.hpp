@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "base/config_check.hpp"
 #include "base/config_keys.hpp"
 #include "base/enum_names.hpp"
 #include "base/range.hpp"
@@ -53,12 +54,12 @@ class KeyDoc {
   void numbers(const config::Key& k, std::vector<double>& f, Range<double> each, Range<std::size_t> length) {
     std::string d = "[";
     for (std::size_t i = 0; i < f.size(); ++i) d += (i ? ", " : "") + toml_number(f[i]);
-    row(k, "array of floats", d + "]", k.range_note.empty() ? lengths(length) + ", each in " + text_of(each) : "");
+    row(k, "array of floats", d + "]", k.range_note.empty() ? lengths(length) + ", each in " + config::range_text(each) : "");
   }
   void integers(const config::Key& k, std::vector<int>& f, Range<std::int64_t> each, Range<std::size_t> length) {
     std::string d = "[";
     for (std::size_t i = 0; i < f.size(); ++i) d += (i ? ", " : "") + std::to_string(f[i]);
-    row(k, "array of integers", d + "]", k.range_note.empty() ? lengths(length) + ", each in " + text_of(each) : "");
+    row(k, "array of integers", d + "]", k.range_note.empty() ? lengths(length) + ", each in " + config::range_text(each) : "");
   }
   void optional_number(const config::Key& k, std::optional<double>& f, Range<double> r) {
     row(k, "float", f ? toml_number(*f) : "unset", range(k, r));
@@ -75,14 +76,8 @@ class KeyDoc {
 
  private:
   template <class T>
-  static std::string text_of(Range<T> r) {
-    std::ostringstream os;
-    os << '[' << r.lo << ", " << r.hi << ']';
-    return os.str();
-  }
-  template <class T>
   static std::string range(const config::Key& k, Range<T> r) {
-    return k.range_note.empty() ? text_of(r) : std::string(k.range_note);
+    return k.range_note.empty() ? config::range_text(r) : std::string(k.range_note);
   }
   static std::string lengths(Range<std::size_t> n) {
     return n.lo == n.hi ? std::to_string(n.lo) + " elements" : std::to_string(n.lo) + " to " + std::to_string(n.hi) + " elements";

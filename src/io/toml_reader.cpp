@@ -1,5 +1,7 @@
 #include "io/toml_reader.hpp"
 
+#include "base/config_check.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -24,16 +26,10 @@ std::string format_number(double v) {
   return os.str();
 }
 
-std::string range_text(double lo, double hi) {
-  std::ostringstream os;
-  os << '[' << lo << ", " << hi << ']';
-  return os.str();
-}
-
-std::string range_text(std::int64_t lo, std::int64_t hi) {
-  std::ostringstream os;
-  os << '[' << lo << ", " << hi << ']';
-  return os.str();
+// "[lo, hi]" as every config message prints a range (base/config_check.hpp).
+template <class T>
+std::string range_text(T lo, T hi) {
+  return config::range_text(Range<T>{lo, hi});
 }
 
 std::string type_name(const toml::node& n) {

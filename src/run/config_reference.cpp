@@ -88,8 +88,6 @@ std::vector<TableReference> config_tables() {
 
 namespace {
 
-std::string cell(const std::string& s) { return s.empty() ? "" : s; }
-
 std::string written_note(const io::KeyRow& r) {
   std::string note;
   if (!r.applies_with.empty()) note += "; only with " + r.applies_with;
@@ -125,7 +123,7 @@ std::string config_reference_markdown() {
       std::string def = "`" + r.default_value + "`";
       if (two && i < t.other_rows.size() && t.other_rows[i].default_value != r.default_value)
         def += " / `" + t.other_rows[i].default_value + "`";
-      out << "| `" << r.name << "` | " << r.type << " | " << def << " | " << cell(r.allowed) << " | " << cell(r.unit)
+      out << "| `" << r.name << "` | " << r.type << " | " << def << " | " << r.allowed << " | " << r.unit
           << " | " << r.meaning << written_note(r) << " |\n";
     }
   }

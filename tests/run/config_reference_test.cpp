@@ -27,9 +27,9 @@ namespace {
 
 const std::string kSource = CODESIGN_SOURCE_DIR;
 
-// "[name]" sections of a TOML text: table → the keys of its "key = value" lines, in order.
-std::map<std::string, std::vector<std::string>> keys_by_table(const std::string& toml) {
-  std::map<std::string, std::vector<std::string>> out;
+// "[name]" sections of a TOML text: table → its "key = value" lines as (key, value), in order.
+std::map<std::string, std::vector<std::pair<std::string, std::string>>> entries_by_table(const std::string& toml) {
+  std::map<std::string, std::vector<std::pair<std::string, std::string>>> out;
   std::istringstream in(toml);
   std::string line, table;
   while (std::getline(in, line)) {
@@ -40,20 +40,7 @@ std::map<std::string, std::vector<std::string>> keys_by_table(const std::string&
       continue;
     }
     const std::size_t eq = line.find(" = ");
-    if (eq != std::string::npos) out[table].push_back(line.substr(0, eq));
-  }
-  return out;
-}
-
-// "key = value" of one table of a TOML text.
-std::map<std::string, std::string> values_of(const std::string& toml, const std::string& name) {
-  std::map<std::string, std::string> out;
-  std::istringstream in(toml);
-  std::string line, table;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line[0] == '[') table = line.substr(1, line.find(']') - 1);
-    const std::size_t eq = line.find(" = ");
-    if (table == name && eq != std::string::npos) out[line.substr(0, eq)] = line.substr(eq + 3);
+    if (eq != std::string::npos) out[table].emplace_back(line.substr(0, eq), line.substr(eq + 3));
   }
   return out;
 }
@@ -122,18 +109,22 @@ TEST(ConfigKeys, EveryKeyIsWrittenOnceReadBackAndNotADefault) {
   io::TableReader gym_default = io::TableReader::from_string("", "(defaults)");
   const std::string default_gym_text = write_gym_tables(io::read_gym_config(gym_default));
 
-  const auto run_keys = keys_by_table(run_text), gym_keys = keys_by_table(gym_text);
+  const auto run_entries = entries_by_table(run_text), gym_entries = entries_by_table(gym_text);
+  const auto default_run_entries = entries_by_table(default_run_text);
+  const auto default_gym_entries = entries_by_table(default_gym_text);
   for (const TableReference& t : config_tables()) {
     const bool gym = t.name == "env" || t.name == "train";
     for (const bool gym_ppo : {false, true}) {
       if (gym_ppo && t.name != "ppo") continue;
       const bool in_gym = gym || gym_ppo;
-      const auto& keys = in_gym ? gym_keys : run_keys;
-      const std::string& text = in_gym ? gym_text : run_text;
-      const std::string& defaults = in_gym ? default_gym_text : default_run_text;
-      ASSERT_TRUE(keys.count(t.name)) << "[" << t.name << "] not written";
-      const std::vector<std::string>& written = keys.at(t.name);
-      const auto value = values_of(text, t.name), default_value = values_of(defaults, t.name);
+      const auto& entries = in_gym ? gym_entries : run_entries;
+      const auto& defaults = in_gym ? default_gym_entries : default_run_entries;
+      ASSERT_TRUE(entries.count(t.name)) << "[" << t.name << "] not written";
+      std::vector<std::string> written;
+      std::map<std::string, std::string> value, default_value;
+      for (const auto& [k, v] : entries.at(t.name)) written.push_back(k), value[k] = v;
+      if (defaults.count(t.name))
+        for (const auto& [k, v] : defaults.at(t.name)) default_value[k] = v;
       std::size_t exempt_unwritten = 0;
       for (const io::KeyRow& r : t.rows) {
         // Keys that cannot leave their default in these fixtures: [env] name has one allowed value;
@@ -152,8 +143,9 @@ TEST(ConfigKeys, EveryKeyIsWrittenOnceReadBackAndNotADefault) {
         EXPECT_EQ(n, 1) << id;
         // A default absent from the default text is an unset optional or a key written only off
         // its default: any value written now differs from it.
-        if (default_value.count(r.name) && !exempt)
+        if (default_value.count(r.name) && !exempt) {
           EXPECT_NE(value.at(r.name), default_value.at(r.name)) << id << " is the default";
+        }
       }
       EXPECT_EQ(written.size() + exempt_unwritten, t.rows.size())
           << "[" << t.name << "] has keys the description does not name";
@@ -174,9 +166,9 @@ TEST(ConfigKeys, TheReaderAcceptsTheDescribedKeysOnly) {
     for (const io::KeyRow& r : t.rows) described[t.name].insert(r.name);
   for (const char* fixture : {"every_key.toml", "every_key_gym.toml"}) {
     const std::string text = test_files::slurp(kSource + "/tests/data/" + fixture);
-    for (const auto& [table, keys] : keys_by_table(text)) {
+    for (const auto& [table, entries] : entries_by_table(text)) {
       ASSERT_TRUE(described.count(table)) << fixture << ": [" << table << "]";
-      for (const std::string& k : keys) EXPECT_TRUE(described[table].count(k)) << fixture << ": " << table << "." << k;
+      for (const auto& [k, v] : entries) EXPECT_TRUE(described[table].count(k)) << fixture << ": " << table << "." << k;
       // A key the description does not name is refused.
       std::string bad = text;
       bad.insert(bad.find("[" + table + "]\n") + table.size() + 3, "not_a_key = 1\n");
