@@ -64,6 +64,15 @@ std::string signal_name(int signo) {
   return "signal " + std::to_string(signo);
 }
 
+void print_run_stopped(int signo, const std::string& where, std::int64_t t, std::int64_t total,
+                       const std::string& dir) {
+  std::fprintf(stderr, "codesign: %s: %s; checkpoint.bin holds t = %lld of %lld; continue with: "
+               "codesign --config %s -o %s --resume\n",
+               signal_name(signo).c_str(), where.c_str(), static_cast<long long>(t), static_cast<long long>(total),
+               (std::filesystem::path(dir) / run_file::kConfig).string().c_str(),
+               std::filesystem::path(dir).string().c_str());
+}
+
 int stop_after_run(const std::string& dir, bool frames_left, bool figures_left) {
   const int sig = stop_signal();
   if (sig == 0 || (!frames_left && !figures_left)) return 0;

@@ -8,6 +8,7 @@
 // their default action (sigaction is async-signal-safe); it does nothing else. That flag is the
 // one piece of process-global state here, and it has to be: a signal handler cannot reach any
 // object of the run.
+#include <cstdint>
 #include <string>
 
 namespace codesign::run {
@@ -26,6 +27,11 @@ class StopSignals {
 int stop_signal();
 // "SIGTERM", "SIGINT", or "signal N".
 std::string signal_name(int signo);
+
+// The line on stderr when a signal stopped a run in DIR: the signal, where the run stopped
+// (`where`), the timestep t of total that checkpoint.bin holds and the command that continues it.
+void print_run_stopped(int signo, const std::string& where, std::int64_t t, std::int64_t total,
+                       const std::string& dir);
 
 // After a completed run, before drawing its frames and/or figures (the flags say which are
 // still to come): if a signal asked to stop, prints one line saying that the run is complete,
