@@ -4,12 +4,8 @@
 // ε (the policy's signal) and the PID on the force estimated from ε and the base angle θ
 // (pid_tuning.hpp) — tuned on tuning phases and tested on disjoint evaluation phases.
 //
-// run_sweep() writes DIR/sweep.csv, one row per (design, pressures, controller), appended and
-// flushed as each row is finished; started again on the same DIR with the same config, it skips
-// the rows already there (a half-written last line is cut off), so a killed sweep resumes. Work
-// units (design, pressures) run in parallel, each single-threaded; a progress line is printed
-// after each unit. At the end it writes the heat-map tables DIR/heatmap_n<N>_<controller>.dat
-// (l × w, the best test return over the pressure grid).
+// Here: one row of the landscape (sweep_one); the sweep's folder, its sweep.csv and heat maps
+// are run/sweep_folder.hpp's.
 #include <cmath>
 #include <cstddef>
 #include <functional>
@@ -83,29 +79,5 @@ struct SweepRow {
 };
 SweepRow sweep_one(const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task, const SweepPoint& point,
                    SweepController controller, const SweepConfig& sweep, const PidTuningConfig& pid);
-
-struct SweepOptions {
-  std::string dir;
-  std::string config_text;     // kept as DIR/sweep.config.toml; a restart must match it
-  bool force = false;          // start afresh even if DIR holds a sweep of another config
-  std::size_t threads = 0;     // 0: all cores
-  bool progress = true;
-  bool report_only = false;    // run nothing: heat maps and summary from the rows already there
-};
-struct SweepSummary {
-  int rows_total = 0, rows_done_before = 0, rows_run = 0;
-  double wall_s = 0.0;
-  std::vector<SweepRow> rows;  // every row of sweep.csv at the end
-};
-SweepSummary run_sweep(const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task, const SweepConfig& sweep,
-                       const PidTuningConfig& pid, const SweepOptions& options);
-
-// sweep.csv (header + rows) reading and writing, for resuming and for tests. The reader also
-// takes a sweep.csv of the previous version (without the fit_r2, fit_rms_mN columns; those are
-// then NaN), so `--report` works on it; run_sweep refuses to append to one.
-std::string sweep_csv_header();
-std::string sweep_csv_header_without_fit();  // the previous version's header
-std::string sweep_csv_line(const SweepRow& r);
-std::vector<SweepRow> read_sweep_csv(const std::string& path);  // complete lines only
 
 }  // namespace codesign::core

@@ -5,7 +5,7 @@
 
 namespace codesign::core {
 
-ScenarioEnd run_open_loop_scenario(fem::Simulator& sim, const io::SimScenario& sc, const ScenarioObserver& observe) {
+ScenarioEnd run_open_loop_scenario(fem::Simulator& sim, const fem::SimScenario& sc, const ScenarioObserver& observe) {
   sim.set_pressures_kPa(sc.pressures_kPa[0], sc.pressures_kPa.size() > 1 ? sc.pressures_kPa[1] : 0.0);
   ScenarioEnd end;
   end.last = sim.settle();

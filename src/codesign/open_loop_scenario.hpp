@@ -1,5 +1,5 @@
 #pragma once
-// The open-loop scenario of [sim] (io::SimScenario) on one simulator: its chamber pressures,
+// The open-loop scenario of [sim] (fem::SimScenario) on one simulator: its chamber pressures,
 // the quasi-static settle, then `steps` steps with the base angle driven through theta_deg, each
 // target spread over the theta_hold_steps steps of its hold interval (as an action is), the last
 // target kept. `codesign sim` records it as a trace and VTK frames, `codesign render --sim` as
@@ -7,7 +7,7 @@
 #include <functional>
 
 #include "fem/simulator.hpp"
-#include "io/fem_config.hpp"
+#include "fem/config_tables.hpp"
 
 namespace codesign::core {
 
@@ -22,7 +22,7 @@ struct ScenarioEnd {
 };
 
 // Runs the scenario on `sim` from its current state (a fresh or reset simulator).
-ScenarioEnd run_open_loop_scenario(fem::Simulator& sim, const io::SimScenario& scenario,
+ScenarioEnd run_open_loop_scenario(fem::Simulator& sim, const fem::SimScenario& scenario,
                                    const ScenarioObserver& observe);
 
 }  // namespace codesign::core

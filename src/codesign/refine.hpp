@@ -42,8 +42,4 @@ RefineResult refine_pressures(const Controller& policy, const std::shared_ptr<Si
                               const TaskConfig& task, int design, std::array<double, 2> p_before,
                               const RefineConfig& config, std::size_t threads = 1);
 
-// result.toml's text with the [refined] table of `r` appended (an earlier [refined] table is
-// removed; all other bytes are kept as they are).
-std::string with_refined_table(const std::string& result_toml, const RefineResult& r);
-
 }  // namespace codesign::core

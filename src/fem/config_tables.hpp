@@ -9,7 +9,11 @@
 //   [geometry]  fem::WhiskerGeometry (not its design: a run chooses the design per episode)
 //   [mesh]      fem::MeshOptions
 //   [fibres]    fem::FibreLayoutOptions and the fibre springs of the model options
+//   [sim]       fem::SimScenario, the open-loop scenario of `codesign sim`
+#include <vector>
+
 #include "base/config_keys.hpp"
+#include "fem/design.hpp"
 #include "fem/material.hpp"
 #include "fem/scene.hpp"
 #include "fem/simulator.hpp"
@@ -102,6 +106,30 @@ void describe_fibres_table(V& v, FibreLayoutOptions& f, ModelOptions& model) {
            model.fibre_axial_stiffness_uN, 1e6, {0.0, 1e4});
   v.boolean({"tension_only", "", "springs resist stretching only (false: both ways, as SOFA's chains)"},
             model.fibres_tension_only);
+}
+
+// The open-loop scenario of `codesign sim`.
+struct SimScenario {
+  int design = 21;                          // design index j, 0..109
+  std::vector<double> pressures_kPa{0.0, 0.0};  // p1, p2 in [0, 20]; p2 ignored for n = 1
+  // θ schedule: theta_deg[i] is the target of hold-interval i, reached by spreading the change
+  // over its theta_hold_steps steps (like an action); the last value is then kept.
+  std::vector<double> theta_deg{0.0};
+  int theta_hold_steps = 5;
+  int steps = 250;
+  int vtk_every = 0;                        // 0: no VTK frames
+};
+template <class V>
+void describe_sim_table(V& v, SimScenario& s) {
+  v.integer({"design", "", "design index j"}, s.design, {0, fem::kDesignCount - 1});
+  v.numbers({"pressures_kPa", "kPa", "chamber pressures [p1] or [p1, p2] (p2 ignored for one chamber)"},
+            s.pressures_kPa, {0.0, 20.0}, {1, 2});
+  if (s.pressures_kPa.size() == 1) s.pressures_kPa.push_back(0.0);
+  v.numbers({"theta_deg", "deg", "base angle targets, one per hold interval; the last is kept"}, s.theta_deg,
+            {-90.0, 90.0}, {1, 100000});
+  v.integer({"theta_hold_steps", "", "steps over which each change of θ is spread"}, s.theta_hold_steps, {1, 100000});
+  v.integer({"steps", "", "simulation steps"}, s.steps, {1, 10'000'000});
+  v.integer({"vtk_every", "", "a VTK frame every this many steps (0: none)"}, s.vtk_every, {0, 10'000'000});
 }
 
 }  // namespace codesign::fem

@@ -26,9 +26,9 @@ FemTables read_fem_tables(TableReader& root) {
   return f;
 }
 
-SimScenario read_sim_scenario(TableReader& root) {
-  SimScenario s;
-  read_keys(root, "sim", [&](auto& v) { describe_sim_table(v, s); });
+fem::SimScenario read_sim_scenario(TableReader& root) {
+  fem::SimScenario s;
+  read_keys(root, "sim", [&](auto& v) { fem::describe_sim_table(v, s); });
   return s;
 }
 

@@ -37,7 +37,7 @@ std::vector<TableReference> config_tables() {
     fem::describe_fibres_table(v, f, m);
   });
   add("sim", "the open-loop scenario", "`sim`, `render --sim`", false,
-      [](auto& v) { io::SimScenario s; io::describe_sim_table(v, s); });
+      [](auto& v) { fem::SimScenario s; fem::describe_sim_table(v, s); });
   add("task", "the episode, the reward, the observation", "`run` and every command that runs a controller", true,
       [](auto& v) { TaskConfig c; core::describe_task_table(v, c); });
   add("faults", "injected numerical failures (tests); in config.toml only when a fault is on",

@@ -196,7 +196,7 @@ std::vector<RecordedFrame> record_episode(const std::shared_ptr<SimulatorPool>& 
 }
 
 std::vector<RecordedFrame> record_scenario(const std::shared_ptr<SimulatorPool>& sims, const TaskConfig& task,
-                                           const io::SimScenario& sc, int every_steps, const std::string& title) {
+                                           const fem::SimScenario& sc, int every_steps, const std::string& title) {
   if (every_steps < 1) throw std::invalid_argument("record_scenario: every_steps must be >= 1");
   const auto model = sims->model(sc.design);
   FrameKeeper keep(*model, task, title, every_steps, 0);

@@ -62,7 +62,7 @@ std::vector<RecordedFrame> record_episode(const std::shared_ptr<core::SimulatorP
 // The open-loop scenario of `codesign sim` ([sim]: design, pressures, θ schedule, steps) on the
 // simulators of `sims`; the band of the overlay is the task's.
 std::vector<RecordedFrame> record_scenario(const std::shared_ptr<core::SimulatorPool>& sims, const core::TaskConfig& task,
-                                           const io::SimScenario& scenario, int every_steps, const std::string& title);
+                                           const fem::SimScenario& scenario, int every_steps, const std::string& title);
 
 // Renders the sequences (1: one panel; 2: side by side, the shorter one holding its last frame)
 // into DIR as frame_NNNN.png + frames.csv, with one camera per panel fitted to its first frame

@@ -90,7 +90,7 @@ void render_frames(const RenderRunOptions& o) {
     }
   } else {
     const std::shared_ptr<const rl::Policy> policy = o.policy.empty() ? nullptr : core::load_task_policy(o.policy, task);
-    const io::SimScenario& sc = setup.scenario;
+    const fem::SimScenario& sc = setup.scenario;
     std::vector<std::pair<int, std::vector<double>>> designs;
     designs.push_back({o.design.value_or(sc.design), o.pressures.empty() ? sc.pressures_kPa : o.pressures});
     if (o.compare)
@@ -101,7 +101,7 @@ void render_frames(const RenderRunOptions& o) {
                          std::to_string(fem::kDesignCount - 1) + "]");
       const std::string title = design_title(j, p[0], p[1]);
       if (o.sim) {
-        io::SimScenario s = sc;
+        fem::SimScenario s = sc;
         s.design = j;
         s.pressures_kPa = p;
         seqs.push_back(record_scenario(sims, task, s, rc.every_steps, "sim: " + title));

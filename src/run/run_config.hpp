@@ -24,7 +24,7 @@ struct RunConfig {
   fem::WhiskerModelSpec spec;
   fem::SceneConfig scene;
   fem::SolverConfig solver;
-  io::SimScenario scenario;
+  fem::SimScenario scenario;
   core::TaskConfig task;          // [task]
   core::CodesignConfig codesign;  // [codesign]
   rl::PpoConfig ppo;               // [ppo] over the paper's settings (rl::paper_ppo_config)

@@ -13,6 +13,7 @@
 
 #include "base/duration_text.hpp"
 #include "base/errors.hpp"
+#include "base/seconds_since.hpp"
 #include "codesign/evaluation.hpp"
 #include "codesign/outer_loop.hpp"
 #include "codesign/policy_controller.hpp"
@@ -160,121 +161,182 @@ Eigen::Vector2d test_pressures(const DesignDistribution& dist, int j) {
                                                                  : dist.mean_pressures_kPa(j);
 }
 
-}  // namespace
-
-RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluationOptions& options) {
-  const auto t_start = std::chrono::steady_clock::now();
-  const fs::path dir(options.dir);
+// The options' ranges: --at, --designs and the phases (returned: the run's eval_episodes unless
+// given), each an InputError naming the flag.
+int checked_phases(const RunEvaluationOptions& options, const LoopConfig& lc) {
   checkpoint_file_of(options.at);  // a bad --at first
   if (options.first_design < 0 || options.last_design >= fem::kDesignCount || options.first_design > options.last_design)
     throw InputError("--designs: " + std::to_string(options.first_design) + "-" + std::to_string(options.last_design) +
                      " is not a range A-B with 0 <= A <= B <= " + std::to_string(fem::kDesignCount - 1));
-  const LoopConfig& lc = settings.loop;
   const int phases = options.phases > 0 ? options.phases : lc.codesign.eval_episodes;
   if (phases < 2)
     throw InputError("--phases: " + std::to_string(phases) + " is not in [2, 100000] (the interval needs two episodes)");
   if (phases > 100000) throw InputError("--phases: " + std::to_string(phases) + " is not in [2, 100000]");
-  const RestoredState state = restore_state(settings, dir, options.at);
-  const std::string& file = state.file;
-  const OuterLoop& loop = *state.loop;
-  const std::shared_ptr<SimulatorPool>& sims = state.sims;
-  const auto policy = std::make_shared<const rl::Policy>(loop.policy_contents());
-  const DesignDistribution& dist = loop.distribution();
-  const std::int64_t t = loop.timesteps();
-  const Eigen::VectorXd q = dist.probabilities(t);
+  return phases;
+}
 
-  // The state that gives the pressures: this one, or the same `at` of another run folder.
-  RestoredState other;
-  std::string other_dir;
-  if (!options.pressures_of.empty()) {
-    const fs::path odir(options.pressures_of);
-    if (!fs::exists(odir / run_file::kConfig))
-      throw InputError("--pressures-of: " + odir.string() + " has no config.toml; it must be a co-design run folder");
-    other = restore_state(run_settings(read_run_config((odir / run_file::kConfig).string())), odir, options.at);
-    std::error_code ec;
-    other_dir = fs::weakly_canonical(odir, ec).string();
-    if (ec) other_dir = odir.string();
-  }
-  const DesignDistribution& pressure_dist = other.loop ? other.loop->distribution() : dist;
+// The state of another run folder whose pressures the designs are tested at (--pressures-of).
+struct PressureSource {
+  RestoredState state;  // no loop: this run's own pressures
+  std::string dir;      // its folder, canonical where possible
+};
 
-  RunEvaluationSummary summary;
-  const fs::path folder = dir / run_file::kEvaluateDir / evaluation_folder_name(options);
-  summary.folder = folder.string();
-  summary.t = t;
-  if (other.loop) {
-    summary.pressures_leading_design = pressure_dist.leading_design();
-    summary.pressures_t = other.loop->timesteps();
-  }
-  summary.leading_design = dist.leading_design();
-  {
-    const std::vector<int> rank = dist.ranking();
-    summary.runner_up = rank.size() < 2 ? -1 : (rank[0] == summary.leading_design ? rank[1] : rank[0]);
-  }
-  const io::RunLock lock(folder.string());
+PressureSource pressure_source(const RunEvaluationOptions& options) {
+  PressureSource source;
+  if (options.pressures_of.empty()) return source;
+  const fs::path odir(options.pressures_of);
+  if (!fs::exists(odir / run_file::kConfig))
+    throw InputError("--pressures-of: " + odir.string() + " has no config.toml; it must be a co-design run folder");
+  source.state = restore_state(run_settings(read_run_config((odir / run_file::kConfig).string())), odir, options.at);
+  std::error_code ec;
+  source.dir = fs::weakly_canonical(odir, ec).string();
+  if (ec) source.dir = odir.string();
+  return source;
+}
 
-  // What this evaluation is; a folder holding another one is continued only if it matches.
+// evaluate.toml: what this evaluation is; a folder holding another one is continued only if it
+// matches.
+std::string evaluation_stamp(const RestoredState& state, const PressureSource& source, const RunEvaluationSummary& summary,
+                             const RunEvaluationOptions& options, int phases) {
   std::ostringstream stamp;
-  stamp << "# codesign evaluate: the deterministic policy of " << file << " tested on every design of the range\n"
-        << "checkpoint = \"" << file << "\"\n"
-        << "t = " << t << "\n"
+  stamp << "# codesign evaluate: the deterministic policy of " << state.file << " tested on every design of the range\n"
+        << "checkpoint = \"" << state.file << "\"\n"
+        << "t = " << summary.t << "\n"
         << "config_fingerprint = \"" << std::hex << state.config_fingerprint << std::dec << "\"\n"
         << "phases = " << phases << "   # episodes per design, plate phases 2*pi*(k + 1/2)/phases\n"
         << "designs = [" << options.first_design << ", " << options.last_design << "]\n";
-  if (other.loop)
+  if (source.state.loop)
     stamp << "# each design at the pressures of another run's state at " << options.at << "\n"
-          << "pressures_of = \"" << other_dir << "\"\n"
+          << "pressures_of = \"" << source.dir << "\"\n"
           << "pressures_t = " << summary.pressures_t << "\n"
-          << "pressures_config_fingerprint = \"" << std::hex << other.config_fingerprint << std::dec << "\"\n";
+          << "pressures_config_fingerprint = \"" << std::hex << source.state.config_fingerprint << std::dec << "\"\n";
+  return stamp.str();
+}
+
+// The rows designs.csv already holds when the folder holds this evaluation (a half-written last
+// line cut); otherwise (or with `force`) a new evaluate.toml and designs.csv and no rows. Another
+// evaluation in the folder without `force` is an InputError.
+std::vector<RunEvaluationRow> open_evaluation_folder(const fs::path& folder, const std::string& stamp, bool force) {
   const fs::path stamp_path = folder / "evaluate.toml", csv = folder / "designs.csv";
   std::vector<RunEvaluationRow> done;
   std::error_code ec;
   if (fs::exists(csv, ec)) {
-    if (slurp(stamp_path) == stamp.str() && !options.force) {
+    if (slurp(stamp_path) == stamp && !force) {
       done = read_rows(csv.string());
       // Cut a half-written last line so appends start on a fresh line.
       const std::string text = slurp(csv);
       fs::resize_file(csv, text.rfind('\n') + 1);
-    } else if (!options.force) {
+    } else if (!force) {
       throw InputError(folder.string() + ": holds an evaluation with other settings (" + stamp_path.string() +
                        "); pass --force to replace it");
     }
   }
   if (done.empty()) {
     for (const char* f : {"ranking.csv", "ranking.dat", "ranking.png"}) fs::remove(folder / f, ec);
-    io::write_file_atomically(stamp_path.string(), [&](std::ostream& out) { out << stamp.str(); });
+    io::write_file_atomically(stamp_path.string(), [&](std::ostream& out) { out << stamp; });
     io::write_file_atomically(csv.string(), [&](std::ostream& out) { out << kColumns << '\n'; });
   }
-  std::set<int> have;
-  for (const RunEvaluationRow& r : done) have.insert(r.design);
-  summary.designs_before = static_cast<int>(have.size());
+  return done;
+}
 
+// Design j tested with the policy over `phases` plate phases at the pressures `pressure_dist` gives.
+RunEvaluationRow evaluate_design(int j, const ControllerFactory& controller, const RestoredState& state,
+                                 const DesignDistribution& pressure_dist, const TaskConfig& task,
+                                 const RunEvaluationOptions& options, int phases) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const DesignDistribution& dist = state.loop->distribution();
   EvaluationOptions eo;
   eo.episodes = phases;
   eo.threads = options.threads;
   eo.trace_first = false;
-  const ControllerFactory controller = policy_factory(policy);
+  const Eigen::Vector2d p = test_pressures(pressure_dist, j);
+  const DesignEvaluation e = evaluate_feedback(controller, state.sims, task, {j, p[0], p[1], 0.0, 0.0}, eo);
+  RunEvaluationRow r;
+  r.design = j;
+  r.p1_kPa = p[0];
+  r.p2_kPa = p[1];
+  r.q = dist.probabilities(state.loop->timesteps())[j];
+  r.score = dist.state().score[j];
+  r.samples = dist.state().samples[static_cast<std::size_t>(j)];
+  r.mean_return = e.mean_return;
+  r.std_return = e.std_return;
+  const double n = static_cast<double>(phases);
+  r.ci95 = 1.96 * e.std_return * std::sqrt(n / (n - 1.0)) / std::sqrt(n);
+  r.band_fraction = e.mean_band_fraction;
+  r.episodes = phases;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+// The ranking: by test return, best first (ties: lower design index), with each design's role.
+std::vector<RunEvaluationRow> ranked(std::vector<RunEvaluationRow> rows, const RunEvaluationSummary& s) {
+  std::stable_sort(rows.begin(), rows.end(), [](const RunEvaluationRow& a, const RunEvaluationRow& b) {
+    return a.mean_return != b.mean_return ? a.mean_return > b.mean_return : a.design < b.design;
+  });
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    RunEvaluationRow& r = rows[i];
+    r.rank = static_cast<int>(i) + 1;
+    r.role = r.design == s.leading_design             ? "d*"
+             : r.design == s.runner_up                ? "runner_up"
+             : r.design == s.pressures_leading_design ? "pressures_d*"
+                                                      : "";
+  }
+  return rows;
+}
+
+// ranking.csv, and gnuplot's table ranking.dat: rank, mean, ci95, design, role index (0 other,
+// 1 d*, 2 runner-up, 3 d* of the pressures' run).
+void write_ranking(const fs::path& folder, const std::vector<RunEvaluationRow>& ranking) {
+  io::write_file_atomically((folder / "ranking.csv").string(), [&](std::ostream& out) {
+    out << "rank," << kColumns << ",role\n";
+    for (const RunEvaluationRow& r : ranking) out << r.rank << ',' << row_line(r) << ',' << r.role << '\n';
+  });
+  io::write_file_atomically((folder / "ranking.dat").string(), [&](std::ostream& out) {
+    out << "# rank mean_return ci95 design role(0 other, 1 d*, 2 runner-up, 3 d* of the pressures' run)\n";
+    for (const RunEvaluationRow& r : ranking)
+      out << r.rank << ' ' << num(r.mean_return) << ' ' << num(r.ci95) << ' ' << r.design << ' '
+          << (r.role == "d*" ? 1 : r.role == "runner_up" ? 2 : r.role == "pressures_d*" ? 3 : 0) << '\n';
+  });
+}
+
+
+}  // namespace
+
+RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluationOptions& options) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const int phases = checked_phases(options, settings.loop);
+  const RestoredState state = restore_state(settings, options.dir, options.at);
+  const PressureSource source = pressure_source(options);
+  const DesignDistribution& dist = state.loop->distribution();
+  const DesignDistribution& pressure_dist = source.state.loop ? source.state.loop->distribution() : dist;
+
+  RunEvaluationSummary summary;
+  const fs::path folder = fs::path(options.dir) / run_file::kEvaluateDir / evaluation_folder_name(options);
+  summary.folder = folder.string();
+  summary.t = state.loop->timesteps();
+  if (source.state.loop) {
+    summary.pressures_leading_design = pressure_dist.leading_design();
+    summary.pressures_t = source.state.loop->timesteps();
+  }
+  summary.leading_design = dist.leading_design();
+  const std::vector<int> rank = dist.ranking();
+  summary.runner_up = rank.size() < 2 ? -1 : (rank[0] == summary.leading_design ? rank[1] : rank[0]);
+  const io::RunLock lock(folder.string());
+
+  std::vector<RunEvaluationRow> done =
+      open_evaluation_folder(folder, evaluation_stamp(state, source, summary, options, phases), options.force);
+  std::set<int> have;
+  for (const RunEvaluationRow& r : done) have.insert(r.design);
+  summary.designs_before = static_cast<int>(have.size());
+
+  const ControllerFactory controller = policy_factory(std::make_shared<const rl::Policy>(state.loop->policy_contents()));
   const int todo = options.last_design - options.first_design + 1 - static_cast<int>(have.size());
+  const fs::path csv = folder / "designs.csv";
   std::FILE* f = std::fopen(csv.c_str(), "ab");
   if (!f) throw InputError(csv.string() + ": cannot open for appending");
   for (int j = options.first_design; j <= options.last_design; ++j) {
     if (have.count(j)) continue;
-    const auto t0 = std::chrono::steady_clock::now();
-    const Eigen::Vector2d p = test_pressures(pressure_dist, j);
-    const DesignEvaluation e = evaluate_feedback(controller, sims, lc.task, {j, p[0], p[1], 0.0, 0.0}, eo);
-    RunEvaluationRow r;
-    r.design = j;
-    r.p1_kPa = p[0];
-    r.p2_kPa = p[1];
-    r.q = q[j];
-    r.score = dist.state().score[j];
-    r.samples = dist.state().samples[static_cast<std::size_t>(j)];
-    r.mean_return = e.mean_return;
-    r.std_return = e.std_return;
-    const double n = static_cast<double>(phases);
-    r.ci95 = 1.96 * e.std_return * std::sqrt(n / (n - 1.0)) / std::sqrt(n);
-    r.band_fraction = e.mean_band_fraction;
-    r.episodes = phases;
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const RunEvaluationRow r = evaluate_design(j, controller, state, pressure_dist, settings.loop.task, options, phases);
     const std::string line = row_line(r) + "\n";
     if (std::fwrite(line.data(), 1, line.size(), f) != line.size() || std::fflush(f) != 0) {
       std::fclose(f);
@@ -283,44 +345,20 @@ RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluati
     done.push_back(r);
     ++summary.designs_run;
     if (options.progress) {
-      const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-      const double eta = el / summary.designs_run * (todo - summary.designs_run);
+      const double eta = seconds_since(t_start) / summary.designs_run * (todo - summary.designs_run);
       std::printf("evaluate: %d/%d | ETA %s | %s p=[%.4g, %.4g] kPa: %.2f +- %.2f (q %.4f, R^ %.2f)\n",
-                  summary.designs_run, todo, duration_text(eta).c_str(), fem::design_label(j).c_str(), p[0], p[1],
-                  r.mean_return, r.ci95, r.q, r.score);
+                  summary.designs_run, todo, duration_text(eta).c_str(), fem::design_label(j).c_str(), r.p1_kPa,
+                  r.p2_kPa, r.mean_return, r.ci95, r.q, r.score);
       std::fflush(stdout);
     }
   }
   std::fclose(f);
 
-  // The ranking: by test return, best first (ties: lower design index).
-  summary.ranking = done;
-  std::stable_sort(summary.ranking.begin(), summary.ranking.end(),
-                   [](const RunEvaluationRow& a, const RunEvaluationRow& b) {
-                     return a.mean_return != b.mean_return ? a.mean_return > b.mean_return : a.design < b.design;
-                   });
-  for (std::size_t i = 0; i < summary.ranking.size(); ++i) {
-    RunEvaluationRow& r = summary.ranking[i];
-    r.rank = static_cast<int>(i) + 1;
-    r.role = r.design == summary.leading_design                                         ? "d*"
-             : r.design == summary.runner_up                                            ? "runner_up"
-             : r.design == summary.pressures_leading_design ? "pressures_d*"
-                                                                                        : "";
-  }
-  io::write_file_atomically((folder / "ranking.csv").string(), [&](std::ostream& out) {
-    out << "rank," << kColumns << ",role\n";
-    for (const RunEvaluationRow& r : summary.ranking) out << r.rank << ',' << row_line(r) << ',' << r.role << '\n';
-  });
-  // gnuplot's table: rank, mean, ci95, design, role index (0 other, 1 d*, 2 runner-up).
-  io::write_file_atomically((folder / "ranking.dat").string(), [&](std::ostream& out) {
-    out << "# rank mean_return ci95 design role(0 other, 1 d*, 2 runner-up, 3 d* of the pressures' run)\n";
-    for (const RunEvaluationRow& r : summary.ranking)
-      out << r.rank << ' ' << num(r.mean_return) << ' ' << num(r.ci95) << ' ' << r.design << ' '
-          << (r.role == "d*" ? 1 : r.role == "runner_up" ? 2 : r.role == "pressures_d*" ? 3 : 0) << '\n';
-  });
+  summary.ranking = ranked(std::move(done), summary);
+  write_ranking(folder, summary.ranking);
   summary.figure_message = draw_ranking(folder, options.plots_dir, summary, options.at);
   summary.figure = summary.figure_message.empty();
-  summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  summary.wall_s = seconds_since(t_start);
   return summary;
 }
 

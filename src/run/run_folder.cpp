@@ -91,6 +91,38 @@ std::optional<ResultDesign> read_result_design(const fs::path& run_dir, const st
   return d;
 }
 
+std::string with_refined_table(const std::string& text, const RefineResult& r) {
+  std::string base = text;
+  // Remove an earlier [refined] table: from its header line to the next table header or the end.
+  std::size_t at = base.rfind("\n[refined]");
+  if (at != std::string::npos) ++at;
+  else if (base.rfind("[refined]", 0) == 0) at = 0;
+  if (at != std::string::npos) {
+    const std::size_t next = base.find("\n[", at);
+    base.erase(at, next == std::string::npos ? std::string::npos : next + 1 - at);
+  }
+  if (!base.empty() && base.back() != '\n') base += '\n';
+  // One blank line before the table (an erased earlier table left its blank line in place).
+  const bool blank = base.empty() || base.ends_with("\n\n");
+  std::ostringstream o;
+  o << (blank ? "" : "\n") << "[refined]   # codesign refine: p* polished by NLopt (" << to_string(r.config.search.method)
+    << ") with the policy and j* fixed\n"
+    << "design = " << r.design << "\n"
+    << "pressures_kPa_before = [" << num(r.p_before[0]) << ", " << num(r.p_before[1]) << "]\n"
+    << "pressures_kPa = [" << num(r.p_after[0]) << ", " << num(r.p_after[1]) << "]\n"
+    << "tuning_phases = " << r.config.tuning_phases << "   # plate phases 2*pi*(i + 0.618...)/n, searched on\n"
+    << "tuning_return_before = " << num(r.tuning_before) << "\n"
+    << "tuning_return = " << num(r.tuning_after) << "\n"
+    << "evaluations = " << r.evaluations << "\n"
+    << "test_episodes = " << r.test_after.returns.size() << "   # plate phases 2*pi*(k + 1/2)/n, never searched on\n"
+    << "test_return_before = " << num(r.test_before.mean_return) << "\n"
+    << "test_return_before_std = " << num(r.test_before.std_return) << "\n"
+    << "test_return = " << num(r.test_after.mean_return) << "\n"
+    << "test_return_std = " << num(r.test_after.std_return) << "\n"
+    << "band_fraction = " << num(r.test_after.mean_band_fraction) << "\n";
+  return base + o.str();
+}
+
 void write_refined_result(const fs::path& run_dir, const RefineResult& r) {
   const std::string path = (run_dir / run_file::kResult).string();
   std::ifstream in(path, std::ios::binary);

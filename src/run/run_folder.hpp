@@ -82,6 +82,10 @@ void write_result(const std::filesystem::path& run_dir, const ResultFile& r);
 std::optional<ResultDesign> read_result_design(const std::filesystem::path& run_dir, const std::string& which,
                                                double pressure_max_kPa = 1e3);
 
+// result.toml's text with the [refined] table of `r` appended (an earlier [refined] table is
+// removed; all other bytes are kept as they are).
+std::string with_refined_table(const std::string& result_toml, const core::RefineResult& r);
+
 // Appends (or replaces) the [refined] table of DIR/result.toml, keeping the rest of its text.
 void write_refined_result(const std::filesystem::path& run_dir, const core::RefineResult& r);
 

@@ -31,7 +31,7 @@ void write_vtk_frame(const fs::path& file, const fem::Simulator& sim) {
 }  // namespace
 
 int run_sim(const RunConfig& setup, const SimRunOptions& opt) {
-  const io::SimScenario& sc = setup.scenario;
+  const fem::SimScenario& sc = setup.scenario;
   const int vtk_every = opt.vtk_every >= 0 ? opt.vtk_every : sc.vtk_every;
   const fs::path dir(opt.out);
   prepare_output_dir(dir, "trace.csv", "run", opt.force);

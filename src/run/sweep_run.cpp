@@ -8,6 +8,7 @@
 
 #include "base/duration_text.hpp"
 #include "codesign/design_sweep.hpp"
+#include "run/sweep_folder.hpp"
 #include "io/gnuplot.hpp"
 
 namespace codesign::run {
@@ -46,7 +47,7 @@ void plot_heatmaps(const fs::path& dir, const core::SweepConfig& sweep, const st
 
 void run_design_sweep(const RunConfig& setup, const SweepRunOptions& o) {
   auto sims = std::make_shared<core::SimulatorPool>(setup.spec, setup.scene, setup.solver);
-  core::SweepOptions so;
+  SweepOptions so;
   so.dir = o.out;
   // The design range is part of what a restart must match.
   so.config_text = o.config_text + "\n# --designs " + std::to_string(setup.sweep.first_design) + "-" +
@@ -63,7 +64,7 @@ void run_design_sweep(const RunConfig& setup, const SweepRunOptions& o) {
               pc.tuning_phases, pc.test_episodes, core::to_string(pc.search.method), pc.search.starts,
               pc.search.max_evals, setup.sweep.fixed_theta.scan_points, setup.sweep.fixed_theta.max_evals);
   std::fflush(stdout);
-  const core::SweepSummary s = core::run_sweep(sims, setup.task, setup.sweep, pc, so);
+  const SweepSummary s = run_sweep(sims, setup.task, setup.sweep, pc, so);
   std::printf("sweep: %d rows run now, %d before, %d of %d in all; this call took %s\n", s.rows_run,
               s.rows_done_before, static_cast<int>(s.rows.size()), s.rows_total, duration_text(s.wall_s).c_str());
   // Summary per controller: best design, median, and the best few.

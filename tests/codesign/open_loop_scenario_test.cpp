@@ -22,7 +22,7 @@ struct Seen {
 };
 
 TEST(OpenLoopScenario, FollowsTheThetaScheduleAndKeepsTheLastTarget) {
-  io::SimScenario sc;
+  fem::SimScenario sc;
   sc.design = 21;
   sc.pressures_kPa = {3.0, 0.0};
   sc.theta_deg = {0.0, 1.0, 2.0};
@@ -50,7 +50,7 @@ TEST(OpenLoopScenario, FollowsTheThetaScheduleAndKeepsTheLastTarget) {
 }
 
 TEST(OpenLoopScenario, NoStepsIsTheSettleAlone) {
-  io::SimScenario sc;
+  fem::SimScenario sc;
   sc.steps = 0;
   const auto model = fem::build_whisker_model(sc.design, fem::WhiskerModelSpec{});
   fem::Simulator sim(model, fem::SceneConfig{}, fem::SolverConfig{});

@@ -51,8 +51,8 @@ std::string write_run_tables(const RunConfig& c) {
   const RunSettings s = run_settings(c);
   std::ostringstream out;
   out << resolved_run_config(s.spec, s.scene, s.solver, s.loop);
-  io::SimScenario sim = c.scenario;
-  io::write_keys(out, "sim", [&](auto& v) { io::describe_sim_table(v, sim); });
+  fem::SimScenario sim = c.scenario;
+  io::write_keys(out, "sim", [&](auto& v) { fem::describe_sim_table(v, sim); });
   core::PidTuningConfig pid = c.pid;
   io::write_keys(out, "pid", [&](auto& v) { core::describe_pid_table(v, pid); });
   core::SweepConfig sweep = c.sweep;

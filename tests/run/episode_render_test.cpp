@@ -68,7 +68,7 @@ TEST(WhiskerSurface, IsTheClosedOuterSurface) {
 TEST(EpisodeRender, SilhouetteFollowsTheSimulatedTip) {
   auto sims = pool();
   const TaskConfig task = short_task();
-  io::SimScenario sc;
+  fem::SimScenario sc;
   sc.design = 21;
   sc.theta_deg = {0.0, -8.0};  // turn the base up by 8° over 10 steps: the tip rises ~14 mm
   sc.theta_hold_steps = 10;
