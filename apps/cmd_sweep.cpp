@@ -10,7 +10,7 @@
 
 #include "cli_options.hpp"
 #include "commands.hpp"
-#include "io/toml_reader.hpp"
+#include "io/config/toml_reader.hpp"
 #include "run/run_config.hpp"
 #include "run/sweep_run.hpp"
 

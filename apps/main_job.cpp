@@ -5,8 +5,8 @@
 
 #include "base/errors.hpp"
 #include "cluster/mpi_world.hpp"
-#include "io/run_lock.hpp"
-#include "io/toml_reader.hpp"
+#include "io/formats/run_lock.hpp"
+#include "io/config/toml_reader.hpp"
 #include "run/episode_render.hpp"
 #include "run/figures.hpp"
 #include "run/rollout_backend.hpp"

@@ -55,7 +55,7 @@
 #include "minibatch_timing.hpp"
 #include "rl/recurrent_ppo.hpp"
 #include "base/errors.hpp"
-#include "io/csv_table.hpp"
+#include "io/formats/csv_table.hpp"
 #include "run/rollout_backend.hpp"
 #include "run/run_folder.hpp"
 #include "run/run_config.hpp"

@@ -29,7 +29,7 @@
 
 #include "base/thread_cpu_seconds.hpp"
 #include "commands.hpp"
-#include "io/gym_config.hpp"
+#include "io/config/gym_config.hpp"
 #include "minibatch_timing.hpp"
 #include "rl/gemm.hpp"
 #include "rl/ppo.hpp"

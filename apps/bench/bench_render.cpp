@@ -22,8 +22,8 @@
 #include <unistd.h>
 
 #include "commands.hpp"
-#include "io/png_file.hpp"
-#include "io/render_osmesa.hpp"
+#include "io/formats/png_file.hpp"
+#include "io/render/render_osmesa.hpp"
 #include "run/episode_render.hpp"
 #include "run/run_config.hpp"
 
@@ -81,7 +81,7 @@ int run_bench_render(const BenchRenderOptions& o) {
   rc.height = o.height;
   rc.validate("command line");
   auto sims = std::make_shared<core::SimulatorPool>(setup.spec, setup.scene, setup.solver);
-  const io::SimScenario& sc = setup.scenario;
+  const fem::SimScenario& sc = setup.scenario;
   core::EpisodeSetup es{sc.design, sc.pressures_kPa[0], sc.pressures_kPa[1], 0.0, 0.0};
   std::vector<run::RecordedFrame> frames =
       run::record_episode(sims, setup.task, es, nullptr, 1, run::design_title(es.design, es.p1_kPa, es.p2_kPa));

@@ -6,7 +6,7 @@
 #include <span>
 
 #include "base/errors.hpp"
-#include "io/atomic_file.hpp"
+#include "io/formats/atomic_file.hpp"
 #include "rl/policy_file.hpp"
 #include "run/run_folder.hpp"
 

@@ -8,7 +8,7 @@
 
 #include "codesign/config_tables.hpp"
 #include "fem/design.hpp"
-#include "io/table_keys.hpp"
+#include "io/config/table_keys.hpp"
 
 namespace codesign::run {
 

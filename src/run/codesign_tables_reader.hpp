@@ -4,7 +4,7 @@
 #include "codesign/design_sweep.hpp"
 #include "codesign/pid_tuning.hpp"
 #include "codesign/task_config.hpp"
-#include "io/toml_reader.hpp"
+#include "io/config/toml_reader.hpp"
 
 namespace codesign::run {
 

@@ -4,8 +4,8 @@
 
 #include "codesign/outer_loop.hpp"
 #include "codesign/config_tables.hpp"
-#include "io/config_writer.hpp"
-#include "io/table_keys.hpp"
+#include "io/config/config_writer.hpp"
+#include "io/config/table_keys.hpp"
 
 namespace codesign::run {
 

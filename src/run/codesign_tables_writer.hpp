@@ -26,7 +26,7 @@ void write_codesign_table(std::ostream& out, const core::CodesignConfig& codesig
 // The resolved config of a co-design run: a header comment, then [material], [scene],
 // [solver], [geometry], [mesh], [fibres] (io::write_fem_tables), [task], [faults] (if enabled), [codesign] and [ppo]
 // (io::write_ppo_table). No [sim]: the run does not read it. Reading the text back (the readers
-// of io/fem_config.hpp, io/mesh_config.hpp, codesign_tables_reader.hpp and read_ppo_config over
+// of io/config/fem_config.hpp, io/config/mesh_config.hpp, codesign_tables_reader.hpp and read_ppo_config over
 // rl::paper_ppo_config()) gives the same values, so resolving that again gives the same text.
 std::string resolved_run_config(const fem::WhiskerModelSpec& spec, const fem::SceneConfig& scene,
                                 const fem::SolverConfig& solver, const core::LoopConfig& loop);

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "io/key_reference.hpp"
+#include "io/config/key_reference.hpp"
 
 namespace codesign::run {
 

@@ -17,9 +17,9 @@
 #include "codesign/whisker_env.hpp"
 #include "fem/model.hpp"
 #include "fem/simulator.hpp"
-#include "io/fem_config.hpp"
-#include "io/render_config.hpp"
-#include "io/render_scene.hpp"
+#include "io/config/fem_config.hpp"
+#include "io/config/render_config.hpp"
+#include "io/render/render_scene.hpp"
 #include "rl/policy_file.hpp"
 
 namespace codesign::run {

@@ -33,7 +33,7 @@
 
 #include "codesign/codesign_config.hpp"
 #include "codesign/task_config.hpp"
-#include "io/gnuplot.hpp"
+#include "io/formats/gnuplot.hpp"
 #include "run/run_folder.hpp"
 
 namespace codesign::run {

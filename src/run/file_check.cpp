@@ -7,7 +7,7 @@
 
 #include "base/errors.hpp"
 #include "fem/mesh_ops.hpp"
-#include "io/msh.hpp"
+#include "io/formats/msh.hpp"
 #include "rl/layer_sizes.hpp"
 #include "rl/policy_file.hpp"
 #include "run/checkpoint.hpp"

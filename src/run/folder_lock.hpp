@@ -1,10 +1,10 @@
 #pragma once
-// The lock of a run folder, as every command that writes into one takes it (io/run_lock.hpp
+// The lock of a run folder, as every command that writes into one takes it (io/formats/run_lock.hpp
 // holds the lock file itself).
 #include <memory>
 #include <string>
 
-#include "io/run_lock.hpp"
+#include "io/formats/run_lock.hpp"
 
 namespace codesign::run {
 

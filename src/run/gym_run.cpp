@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "base/errors.hpp"
-#include "io/gym_config.hpp"
+#include "io/config/gym_config.hpp"
 #include "rl/pendulum.hpp"
 #include "rl/policy_file.hpp"
 #include "rl/trainer.hpp"

@@ -8,10 +8,10 @@
 #include "fem/design.hpp"
 #include "fem/mesh_quality.hpp"
 #include "fem/whisker_mesh.hpp"
-#include "io/mesh_config.hpp"
-#include "io/msh.hpp"
-#include "io/toml_reader.hpp"
-#include "io/vtk.hpp"
+#include "io/config/mesh_config.hpp"
+#include "io/formats/msh.hpp"
+#include "io/config/toml_reader.hpp"
+#include "io/formats/vtk.hpp"
 
 namespace codesign::run {
 

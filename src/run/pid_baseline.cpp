@@ -8,8 +8,8 @@
 
 #include "base/errors.hpp"
 #include "fem/design.hpp"
-#include "io/atomic_file.hpp"
-#include "io/csv_log.hpp"
+#include "io/formats/atomic_file.hpp"
+#include "io/formats/csv_log.hpp"
 #include "run/output_dir.hpp"
 #include "run/run_folder.hpp"
 

@@ -5,7 +5,7 @@
 #include <system_error>
 
 #include "base/errors.hpp"
-#include "io/atomic_file.hpp"
+#include "io/formats/atomic_file.hpp"
 #include "run/run_folder.hpp"
 
 namespace codesign::run {

@@ -9,7 +9,7 @@
 #include "base/errors.hpp"
 #include "codesign/policy_controller.hpp"
 #include "codesign/refine.hpp"
-#include "io/run_lock.hpp"
+#include "io/formats/run_lock.hpp"
 #include "rl/policy_file.hpp"
 #include "run/folder_lock.hpp"
 #include "run/run_config.hpp"

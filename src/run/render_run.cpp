@@ -11,7 +11,7 @@
 #include "codesign/evaluation.hpp"
 #include "codesign/policy_controller.hpp"
 #include "fem/design.hpp"
-#include "io/run_lock.hpp"
+#include "io/formats/run_lock.hpp"
 #include "rl/policy_file.hpp"
 #include "run/episode_render.hpp"
 #include "run/folder_lock.hpp"

@@ -10,7 +10,7 @@
 
 #include "base/errors.hpp"
 #include "codesign/failure_count.hpp"
-#include "io/run_lock.hpp"
+#include "io/formats/run_lock.hpp"
 #include "rl/policy_file.hpp"
 #include "run/checkpoint.hpp"
 #include "run/codesign_tables_writer.hpp"

@@ -20,7 +20,7 @@
 // they had at the checkpoint, and the run ends with the same policy.bin and result.toml as an
 // uninterrupted run (wall-clock fields aside).
 //
-// One writer per run folder: the run holds DIR/.lock (io/run_lock.hpp) while it writes; a second
+// One writer per run folder: the run holds DIR/.lock (io/formats/run_lock.hpp) while it writes; a second
 // run, --resume or --force on a folder whose lock is held stops with an InputError naming the
 // holder, before anything is read or written. SIGTERM / SIGINT (with StopSignals installed,
 // stop_signals.hpp) stop the run after the current iteration with a checkpoint; during the

@@ -1,8 +1,8 @@
 #include "run/run_config.hpp"
 
-#include "io/gym_config.hpp"
-#include "io/mesh_config.hpp"
-#include "io/table_keys.hpp"
+#include "io/config/gym_config.hpp"
+#include "io/config/mesh_config.hpp"
+#include "io/config/table_keys.hpp"
 #include "run/codesign_tables_reader.hpp"
 
 namespace codesign::run {

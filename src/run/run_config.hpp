@@ -1,9 +1,9 @@
 #pragma once
 // The run config: every table a config file may hold, read once by one reader and shared by
 // every sub-command (the run, sim, baselines, sweep, render, check, evaluate, refine, the
-// benchmarks). Each table has one reader (io/fem_config.hpp, io/mesh_config.hpp,
-// run/codesign_tables_reader.hpp, io/gym_config.hpp for [ppo], io/render_config.hpp) and one writer
-// (io/config_writer.hpp and run/codesign_tables_writer.hpp); this file only puts them together.
+// benchmarks). Each table has one reader (io/config/fem_config.hpp, io/config/mesh_config.hpp,
+// run/codesign_tables_reader.hpp, io/config/gym_config.hpp for [ppo], io/config/render_config.hpp) and one writer
+// (io/config/config_writer.hpp and run/codesign_tables_writer.hpp); this file only puts them together.
 #include <memory>
 #include <string>
 
@@ -13,9 +13,9 @@
 #include "codesign/task_config.hpp"
 #include "fem/simulator.hpp"
 #include "fem/whisker_model.hpp"
-#include "io/fem_config.hpp"
-#include "io/render_config.hpp"
-#include "io/toml_reader.hpp"
+#include "io/config/fem_config.hpp"
+#include "io/config/render_config.hpp"
+#include "io/config/toml_reader.hpp"
 #include "rl/ppo.hpp"
 
 namespace codesign::run {

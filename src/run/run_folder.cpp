@@ -7,10 +7,10 @@
 
 #include "base/errors.hpp"
 #include "fem/design.hpp"
-#include "io/atomic_file.hpp"
-#include "io/csv_log.hpp"
-#include "io/csv_table.hpp"
-#include "io/toml_reader.hpp"
+#include "io/formats/atomic_file.hpp"
+#include "io/formats/csv_log.hpp"
+#include "io/formats/csv_table.hpp"
+#include "io/config/toml_reader.hpp"
 
 namespace codesign::run {
 

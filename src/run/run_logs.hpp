@@ -10,7 +10,7 @@
 
 #include "codesign/design_distribution.hpp"
 #include "codesign/outer_loop.hpp"
-#include "io/csv_log.hpp"
+#include "io/formats/csv_log.hpp"
 #include "run/distribution_summary.hpp"
 
 namespace codesign::run {

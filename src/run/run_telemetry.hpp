@@ -13,7 +13,7 @@
 
 #include "codesign/evaluation.hpp"
 #include "codesign/outer_loop.hpp"
-#include "io/telemetry.hpp"
+#include "io/telemetry/telemetry.hpp"
 #include "run/distribution_summary.hpp"
 
 namespace codesign::run {

@@ -6,8 +6,8 @@
 
 #include "codesign/open_loop_scenario.hpp"
 #include "fem/whisker_model.hpp"
-#include "io/csv_writer.hpp"
-#include "io/vtk.hpp"
+#include "io/formats/csv_writer.hpp"
+#include "io/formats/vtk.hpp"
 #include "run/output_dir.hpp"
 
 namespace codesign::run {

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "fem/design.hpp"
-#include "io/atomic_file.hpp"
-#include "io/csv_log.hpp"
+#include "io/formats/atomic_file.hpp"
+#include "io/formats/csv_log.hpp"
 #include "rl/thread_pool.hpp"
 #include "run/output_dir.hpp"
 

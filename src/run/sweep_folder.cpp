@@ -16,8 +16,8 @@
 #include "base/errors.hpp"
 #include "base/seconds_since.hpp"
 #include "fem/design.hpp"
-#include "io/atomic_file.hpp"
-#include "io/csv_log.hpp"
+#include "io/formats/atomic_file.hpp"
+#include "io/formats/csv_log.hpp"
 #include "rl/thread_pool.hpp"
 
 namespace codesign::run {

@@ -9,7 +9,7 @@
 #include "base/duration_text.hpp"
 #include "codesign/design_sweep.hpp"
 #include "run/sweep_folder.hpp"
-#include "io/gnuplot.hpp"
+#include "io/formats/gnuplot.hpp"
 
 namespace codesign::run {
 

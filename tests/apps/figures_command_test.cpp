@@ -14,7 +14,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "io/gnuplot.hpp"
+#include "io/formats/gnuplot.hpp"
 #include "run_binary.hpp"
 #include "tiny_run.hpp"
 

@@ -3,7 +3,7 @@
 #include <string>
 
 #include "fem/mesh_quality.hpp"
-#include "io/msh.hpp"
+#include "io/formats/msh.hpp"
 #include "test_util.hpp"
 #include "run_binary.hpp"
 

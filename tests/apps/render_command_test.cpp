@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "io/png_file.hpp"
+#include "io/formats/png_file.hpp"
 #include "run_binary.hpp"
 #include "tiny_run.hpp"
 

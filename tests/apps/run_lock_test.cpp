@@ -1,4 +1,4 @@
-// One writer per run folder (DIR/.lock, io/run_lock.hpp): while a run writes DIR, another run,
+// One writer per run folder (DIR/.lock, io/formats/run_lock.hpp): while a run writes DIR, another run,
 // `--resume`, `--force`, `figures`, `refine` and a `render` into DIR stop with one message naming
 // DIR and the holder's pid and host, exit status 2, and change nothing; a lock left by a run
 // killed with SIGKILL is taken over.

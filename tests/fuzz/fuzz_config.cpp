@@ -7,8 +7,8 @@
 #include <string_view>
 
 #include "base/errors.hpp"
-#include "io/gym_config.hpp"
-#include "io/toml_reader.hpp"
+#include "io/config/gym_config.hpp"
+#include "io/config/toml_reader.hpp"
 #include "run/run_config.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

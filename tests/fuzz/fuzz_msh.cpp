@@ -5,7 +5,7 @@
 #include <string>
 
 #include "base/errors.hpp"
-#include "io/msh.hpp"
+#include "io/formats/msh.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));

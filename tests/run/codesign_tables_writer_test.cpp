@@ -11,11 +11,11 @@
 #include "run/codesign_tables_writer.hpp"
 #include "codesign/outer_loop.hpp"
 #include "test_files.hpp"
-#include "io/config_writer.hpp"
-#include "io/fem_config.hpp"
-#include "io/render_config.hpp"
-#include "io/toml_reader.hpp"
-#include "io/gym_config.hpp"
+#include "io/config/config_writer.hpp"
+#include "io/config/fem_config.hpp"
+#include "io/config/render_config.hpp"
+#include "io/config/toml_reader.hpp"
+#include "io/config/gym_config.hpp"
 
 namespace codesign::run {
 namespace {
@@ -94,7 +94,7 @@ void expect_same(const CodesignConfig& a, const CodesignConfig& b) {
 }
 
 // Field by field for [task] and [codesign]; the simulator and [ppo] tables are compared field
-// by field in tests/io/config_writer_test.cpp, here through their text (one text per value:
+// by field in tests/io/config/config_writer_test.cpp, here through their text (one text per value:
 // every field is written in a form that reads back onto it exactly).
 void expect_same(const RunTables& a, const RunTables& b) {
   expect_same(a.loop.task, b.loop.task);

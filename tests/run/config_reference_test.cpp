@@ -11,11 +11,11 @@
 #include <vector>
 
 #include "codesign/config_tables.hpp"
-#include "io/config_writer.hpp"
-#include "io/fem_config.hpp"
-#include "io/gym_config.hpp"
-#include "io/render_config.hpp"
-#include "io/table_keys.hpp"
+#include "io/config/config_writer.hpp"
+#include "io/config/fem_config.hpp"
+#include "io/config/gym_config.hpp"
+#include "io/config/render_config.hpp"
+#include "io/config/table_keys.hpp"
 #include "run/codesign_tables_writer.hpp"
 #include "run/config_reference.hpp"
 #include "run/run_settings.hpp"

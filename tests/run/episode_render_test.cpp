@@ -10,8 +10,8 @@
 
 #include "base/errors.hpp"
 #include "fem/mesh_ops.hpp"
-#include "io/png_file.hpp"
-#include "io/render_osmesa.hpp"
+#include "io/formats/png_file.hpp"
+#include "io/render/render_osmesa.hpp"
 #include "run/episode_render.hpp"
 
 using namespace codesign;

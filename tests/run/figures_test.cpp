@@ -16,7 +16,7 @@
 #include <unistd.h>
 
 #include "base/errors.hpp"
-#include "io/gnuplot.hpp"
+#include "io/formats/gnuplot.hpp"
 #include "run/figures.hpp"
 
 using namespace codesign;

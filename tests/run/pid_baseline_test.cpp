@@ -10,7 +10,7 @@
 #include <string>
 
 #include "base/errors.hpp"
-#include "io/toml_reader.hpp"
+#include "io/config/toml_reader.hpp"
 #include "run/pid_baseline.hpp"
 #include "test_files.hpp"
 

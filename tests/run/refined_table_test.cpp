@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "codesign/refine.hpp"
-#include "io/toml_reader.hpp"
+#include "io/config/toml_reader.hpp"
 #include "run/run_folder.hpp"
 
 namespace codesign::run {

@@ -16,8 +16,8 @@
 #include "run/codesign_tables_writer.hpp"
 #include "run/run_evaluation.hpp"
 #include "test_files.hpp"
-#include "io/csv_table.hpp"
-#include "io/toml_reader.hpp"
+#include "io/formats/csv_table.hpp"
+#include "io/config/toml_reader.hpp"
 #include "test_setup.hpp"
 
 namespace {

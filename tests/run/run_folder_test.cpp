@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "base/errors.hpp"
-#include "io/csv_table.hpp"
+#include "io/formats/csv_table.hpp"
 #include "run/run_folder.hpp"
 #include "test_files.hpp"
 
