@@ -13,7 +13,7 @@
 // (every rank); the machine's busy, idle and stolen core-seconds over the timed iterations from
 // /proc/stat (every process: run it on otherwise idle cores); with ≥ 2 ranks, the cost of one exchange
 // of a step's shape between rank 0 and one rank (mean of --exchanges rounds). Then the scaling
-// model (cluster/scaling_model.hpp) with these costs: seconds per iteration and the projected run
+// model (bench/scaling_model.hpp) with these costs: seconds per iteration and the projected run
 // time for 1 … ψ ranks of --model-threads threads, with the update on rank 0 (as built) and
 // spread over the ranks (a bound: not built, messages free), beside the measured figure of this
 // launch, and the goal (the paper run in ≤ 5 min on 16 ranks); then the spread update
@@ -44,12 +44,12 @@
 #include <unistd.h>
 
 #include "base/peak_memory.hpp"
+#include "bench/cost_spread.hpp"
+#include "bench/scaling_model.hpp"
 #include "cli_options.hpp"
-#include "cluster/cost_spread.hpp"
 #include "cluster/mpi_env_pool.hpp"
 #include "cluster/mpi_world.hpp"
 #include "cluster/rollout_messages.hpp"
-#include "cluster/scaling_model.hpp"
 #include "codesign/outer_loop.hpp"
 #include "commands.hpp"
 #include "minibatch_timing.hpp"
@@ -368,7 +368,7 @@ void print_launch(const Launch& launch) {
 }
 
 // Each environment's settle and step CPU over each iteration, with its design: for the designs'
-// cost spread in the model (cluster/cost_spread.hpp). Read between iterations, outside the timing.
+// cost spread in the model (bench/cost_spread.hpp). Read between iterations, outside the timing.
 struct CostLog {
   std::vector<cluster::CostSample> costs;
   std::vector<cluster::DecisionCosts> decision_costs;  // the same, decision by decision (one process)
