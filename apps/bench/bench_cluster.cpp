@@ -13,7 +13,7 @@
 // (every rank); the machine's busy, idle and stolen core-seconds over the timed iterations from
 // /proc/stat (every process: run it on otherwise idle cores); with ≥ 2 ranks, the cost of one exchange
 // of a step's shape between rank 0 and one rank (mean of --exchanges rounds). Then the scaling
-// model (cluster/scaling_model.hpp) with these costs: seconds per iteration and the projected run
+// model (bench/scaling_model.hpp) with these costs: seconds per iteration and the projected run
 // time for 1 … ψ ranks of --model-threads threads, with the update on rank 0 (as built) and
 // spread over the ranks (a bound: not built, messages free), beside the measured figure of this
 // launch, and the goal (the paper run in ≤ 5 min on 16 ranks); then the spread update
@@ -44,12 +44,12 @@
 #include <unistd.h>
 
 #include "base/peak_memory.hpp"
+#include "bench/cost_spread.hpp"
+#include "bench/scaling_model.hpp"
 #include "cli_options.hpp"
-#include "cluster/cost_spread.hpp"
 #include "cluster/mpi_env_pool.hpp"
 #include "cluster/mpi_world.hpp"
 #include "cluster/rollout_messages.hpp"
-#include "cluster/scaling_model.hpp"
 #include "codesign/outer_loop.hpp"
 #include "commands.hpp"
 #include "minibatch_timing.hpp"
@@ -212,7 +212,7 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
     for (double x : d.seconds) mean_total += x / static_cast<double>(samples.size());
   const cluster::MeetingLoad own = cluster::meeting_load_factor(samples, psi, 1, launch_threads, o.spread_draws, seed);
   const double update_in_samples = c.env_collect_s > 0.0 ? c.update_s * mean_total * own.lockstep / c.env_collect_s : 0.0;
-  std::printf("bench cluster: the meeting at every decision (cluster/cost_spread.hpp), from %zu environment "
+  std::printf("bench cluster: the meeting at every decision (apps/bench/cost_spread.hpp), from %zu environment "
               "iterations of %zu decision costs each (every iteration above): L = the collection over the model's "
               "rounds x mean cost, mean of %d simulated iterations split by cost; this launch (1 rank x %d "
               "thread(s)): L_1 = %.3f\n",
@@ -308,309 +308,512 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
   }
 }
 
-int run_bench_cluster(const BenchClusterOptions& o) {
-  // Read first: a bad run folder is one message before any work.
-  const std::vector<cluster::RunIteration> whole_run =
-      o.from_run.empty() ? std::vector<cluster::RunIteration>{} : read_run_iterations(o.from_run);
-  const run::RunConfig setup = run::read_run_config(o.config);
-  const run::RunSettings s = run::run_settings(setup);
-  const core::LoopConfig& lc = s.loop;
-  const std::vector<int> here = cluster::ranks_on_this_machine();  // collective: before the ranks part
-  const int ranks_here = static_cast<int>(here.size());
-  if (run::serve_unless_rank_zero(s, static_cast<std::size_t>(o.threads), here)) return 0;
-  const int ranks = cluster::world_size();
-  auto sims = std::make_shared<core::SimulatorPool>(s.spec, s.scene, s.solver);
-  std::unique_ptr<core::EnvPool> envs = run::make_rollout_pool(sims, lc, static_cast<std::size_t>(o.threads), ranks, here);
-  auto* mpi_pool = dynamic_cast<cluster::MpiEnvPool*>(envs.get());
-  if (mpi_pool) mpi_pool->set_share_by_cost(!o.contiguous);
-  if (mpi_pool) mpi_pool->set_run_ahead(!o.lockstep);
-  DecisionCostRecorder* recorder = nullptr;  // one process: each decision's costs, for the meetings
-  if (!mpi_pool) {
-    auto r = std::make_unique<DecisionCostRecorder>(std::move(envs));
-    recorder = r.get();
-    envs = std::move(r);
+// This launch's rollout pool: under mpirun the MPI pool (shared out by cost unless --contiguous,
+// whole rollouts on the ranks unless --lockstep); in one process the threads' pool inside a
+// recorder of each decision's costs, for the meetings.
+struct RolloutPool {
+  std::unique_ptr<core::EnvPool> owned;
+  cluster::MpiEnvPool* mpi = nullptr;
+  DecisionCostRecorder* recorder = nullptr;
+};
+
+RolloutPool make_bench_pool(std::shared_ptr<core::SimulatorPool> sims, const core::LoopConfig& lc,
+                            const BenchClusterOptions& options, int ranks, const std::vector<int>& here) {
+  RolloutPool made;
+  made.owned = run::make_rollout_pool(std::move(sims), lc, static_cast<std::size_t>(options.threads), ranks, here);
+  made.mpi = dynamic_cast<cluster::MpiEnvPool*>(made.owned.get());
+  if (made.mpi) {
+    made.mpi->set_share_by_cost(!options.contiguous);
+    made.mpi->set_run_ahead(!options.lockstep);
+  } else {
+    auto recorder = std::make_unique<DecisionCostRecorder>(std::move(made.owned));
+    made.recorder = recorder.get();
+    made.owned = std::move(recorder);
   }
-  core::EnvPool* pool = envs.get();
-  const std::size_t threads =
-      o.threads > 0 ? static_cast<std::size_t>(o.threads) : std::max(1u, std::thread::hardware_concurrency());
-  core::OuterLoop loop(lc, std::move(envs));
-  const int psi = lc.codesign.designs_per_update, n_steps = lc.ppo.n_steps;
-  std::printf("bench cluster: %s: psi = %d environments x %d decisions; %d rank(s) x %zu thread(s)\n", o.config.c_str(),
-              psi, n_steps, ranks, threads);
-  // The model reads c as the collection of a thread with a core of its own; with more threads
-  // than cores on rank 0's machine the ranks share cores, and c is a share of one.
+  return made;
+}
+
+// This launch as the bench measures it: the options, the loop and its config, the pool the loop
+// steps, the simulators, and the launch's sizes.
+struct Launch {
+  const BenchClusterOptions& options;
+  const core::LoopConfig& lc;
+  core::OuterLoop& loop;
+  core::SimulatorPool& sims;
+  core::EnvPool& pool;
+  cluster::MpiEnvPool* mpi_pool;        // under mpirun, else null
+  DecisionCostRecorder* recorder;       // in one process, else null
+  int ranks;
+  std::size_t threads;                  // rollout threads per rank
+  int psi, n_steps;
+  int ranks_here;                       // the ranks on rank 0's machine
+  bool oversubscribed;                  // more threads than cores on rank 0's machine
+};
+
+// The model reads c as the collection of a thread with a core of its own; with more threads
+// than cores on rank 0's machine the ranks share cores, and c is a share of one.
+bool cores_shared(int ranks_here, std::size_t threads) {
   const unsigned cores = std::thread::hardware_concurrency();
-  const bool oversubscribed = cores > 0 && static_cast<std::size_t>(ranks_here) * threads > cores;
-  if (oversubscribed)
+  return cores > 0 && static_cast<std::size_t>(ranks_here) * threads > cores;
+}
+
+void print_launch(const Launch& launch) {
+  std::printf("bench cluster: %s: psi = %d environments x %d decisions; %d rank(s) x %zu thread(s)\n",
+              launch.options.config.c_str(), launch.psi, launch.n_steps, launch.ranks, launch.threads);
+  if (launch.oversubscribed)
     std::printf("  this launch runs %d rank(s) x %zu thread(s) on the %u cores of rank 0's machine: the ranks share "
                 "cores, so the model's c below is not one core's collection and its projection is not meaningful; "
                 "feed the model from a launch with ranks x threads <= cores\n",
-                ranks_here, threads, cores);
-  // Each environment's settle and step CPU over each iteration, with its design: for the designs'
-  // cost spread in the model (cluster/cost_spread.hpp). Read between iterations, outside the timing.
+                launch.ranks_here, launch.threads, std::thread::hardware_concurrency());
+}
+
+// Each environment's settle and step CPU over each iteration, with its design: for the designs'
+// cost spread in the model (bench/cost_spread.hpp). Read between iterations, outside the timing.
+struct CostLog {
   std::vector<cluster::CostSample> costs;
   std::vector<cluster::DecisionCosts> decision_costs;  // the same, decision by decision (one process)
-  // Returns the iteration's per-environment costs (under MPI: one exchange with every rank).
-  auto keep_costs = [&](const core::IterationReport& r) {
-    const std::vector<double> w = pool->work_since_start();
-    for (std::size_t i = 0; i < w.size() && i < r.samples.size(); ++i) costs.push_back({r.samples[i].design, w[i]});
-    if (recorder)
-      for (std::size_t i = 0; i < recorder->profiles().size() && i < r.samples.size(); ++i)
-        decision_costs.push_back({r.samples[i].design, recorder->profiles()[i]});
-    return w;
-  };
-  for (int k = 0; k < o.warmup; ++k) keep_costs(loop.iterate());  // meshes the sampled designs, builds simulators
-  const int built0 = sims->constructed();
+};
 
+// Adds the iteration's costs to `log` and returns its per-environment costs (under MPI: one
+// exchange with every rank).
+std::vector<double> keep_costs(const Launch& launch, const core::IterationReport& report, CostLog& log) {
+  const std::vector<double> work = launch.pool.work_since_start();
+  for (std::size_t i = 0; i < work.size() && i < report.samples.size(); ++i)
+    log.costs.push_back({report.samples[i].design, work[i]});
+  if (launch.recorder)
+    for (std::size_t i = 0; i < launch.recorder->profiles().size() && i < report.samples.size(); ++i)
+      log.decision_costs.push_back({report.samples[i].design, launch.recorder->profiles()[i]});
+  return work;
+}
+
+// What this launch's messages cost (zero in one process).
+struct MessageCosts {
+  bool ran_ahead = false;  // whole rollouts on the ranks
+  double exchange = 0.0;   // one exchange with one rank, of a step's or a whole rollout's shape
+  std::size_t gradient_floats = 0;
+  double gradient_transfer = 0.0;  // one gradient moved one way between rank 0 and a rank
+};
+
+MessageCosts time_messages(const Launch& launch) {
+  MessageCosts messages;
   // One exchange of a step's shape with one rank: the actions of the largest slice of a 2-rank
   // split out, its step results back (rewards, flags, observations, terminal observations).
   // With whole rollouts on the ranks (the warm-up ran some: MpiEnvPool::rollouts), one exchange
   // per iteration of that shape instead: the policy's parameters and the rollout's normal draws
   // out (broadcast in a run; sent to each rank in turn here, so no cheaper), the slice's record back.
-  double exchange = 0.0;
-  const bool ran_ahead = mpi_pool && mpi_pool->rollouts() > 0;
+  const int psi = launch.psi, n_steps = launch.n_steps, ranks = launch.ranks, rounds = launch.options.exchanges;
+  messages.ran_ahead = launch.mpi_pool && launch.mpi_pool->rollouts() > 0;
   if (ranks > 1) {
     const std::size_t slice = cluster::env_slice(static_cast<std::size_t>(psi), 0, 2).count;
-    const std::size_t obs = pool->spec().observation.dim(), act = pool->spec().action.dim();
+    const std::size_t obs = launch.pool.spec().observation.dim(), act = launch.pool.spec().action.dim();
     const auto steps = static_cast<std::size_t>(n_steps);
-    exchange = ran_ahead ? cluster::time_exchanges(ranks,
-                                                   cluster::policy_size(loop.model()) / 2 +
-                                                       steps * act * static_cast<std::size_t>(psi),
-                                                   cluster::share_floats(n_steps, slice, obs, act) / 2 +
-                                                       cluster::share_doubles(n_steps, slice),
-                                                   o.exchanges)
-                         : cluster::time_exchanges(ranks, slice * act, slice * (5 + 2 * obs), o.exchanges);
+    messages.exchange = messages.ran_ahead
+                            ? cluster::time_exchanges(ranks,
+                                                      cluster::policy_size(launch.loop.model()) / 2 +
+                                                          steps * act * static_cast<std::size_t>(psi),
+                                                      cluster::share_floats(n_steps, slice, obs, act) / 2 +
+                                                          cluster::share_doubles(n_steps, slice),
+                                                      rounds)
+                            : cluster::time_exchanges(ranks, slice * act, slice * (5 + 2 * obs), rounds);
   }
 
   // A data-parallel update's messages (scaling_model.hpp): one gradient (the parameters' size)
   // moved one way between rank 0 and a rank, answered by a short reply.
-  const auto gradient_floats = static_cast<std::size_t>(
-      loop.recurrent_model() ? loop.recurrent_model()->num_params() : loop.model().num_params());
-  const double gradient_transfer =
-      ranks > 1 ? cluster::time_exchanges(ranks, (gradient_floats + 1) / 2, 1, std::min(o.exchanges, 50)) : 0.0;
+  messages.gradient_floats = static_cast<std::size_t>(launch.loop.recurrent_model()
+                                                          ? launch.loop.recurrent_model()->num_params()
+                                                          : launch.loop.model().num_params());
+  messages.gradient_transfer =
+      ranks > 1 ? cluster::time_exchanges(ranks, (messages.gradient_floats + 1) / 2, 1, std::min(rounds, 50)) : 0.0;
+  return messages;
+}
 
-  const double settle0 = pool->settle_seconds(), step0 = pool->step_seconds(), build0 = pool->build_seconds();
+// The pool's and the simulators' counters before the timed iterations.
+struct CountersAtStart {
+  int built = 0;
+  double settle = 0.0, step = 0.0, build = 0.0;
+  int starts = 0, moved = 0;
+  double start_wait = 0.0, step_wait = 0.0, rollout_wait = 0.0;
+  int rollouts = 0;
+  double lent = 0.0, lent_all = 0.0;
+  int received = 0, sent = 0;
+};
 
-  const int starts0 = mpi_pool ? mpi_pool->starts() : 0, moved0 = mpi_pool ? mpi_pool->reassigned_starts() : 0;
-  const double start_wait0 = mpi_pool ? mpi_pool->start_wait_seconds() : 0.0;
-  const double step_wait0 = mpi_pool ? mpi_pool->step_wait_seconds() : 0.0;
-  const double rollout_wait0 = mpi_pool ? mpi_pool->rollout_wait_seconds() : 0.0;
-  const int rollouts0 = mpi_pool ? mpi_pool->rollouts() : 0;
-  const double lent0 = mpi_pool ? mpi_pool->lent_seconds() : 0.0;
-  const double lent_all0 = mpi_pool ? mpi_pool->lent_seconds_of_all_ranks() : 0.0;
-  const int received0 = mpi_pool ? mpi_pool->meshes_received() : 0, sent0 = mpi_pool ? mpi_pool->meshes_sent() : 0;
-  double collect = 0.0, update = 0.0, dist = 0.0, policy = 0.0, imbalance = 0.0, imbalance_s = 0.0;
+CountersAtStart read_counters(const Launch& launch, int built) {
+  CountersAtStart at;
+  at.built = built;
+  at.settle = launch.pool.settle_seconds();
+  at.step = launch.pool.step_seconds();
+  at.build = launch.pool.build_seconds();
+  if (const cluster::MpiEnvPool* mpi = launch.mpi_pool) {
+    at.starts = mpi->starts();
+    at.moved = mpi->reassigned_starts();
+    at.start_wait = mpi->start_wait_seconds();
+    at.step_wait = mpi->step_wait_seconds();
+    at.rollout_wait = mpi->rollout_wait_seconds();
+    at.rollouts = mpi->rollouts();
+    at.lent = mpi->lent_seconds();
+    at.lent_all = mpi->lent_seconds_of_all_ranks();
+    at.received = mpi->meshes_received();
+    at.sent = mpi->meshes_sent();
+  }
+  return at;
+}
+
+// Sums over the timed iterations, their wall time less the cost recording between them, and the
+// machine's CPU times before and after.
+struct TimedIterations {
+  double collect = 0.0, update = 0.0, dist = 0.0, policy = 0.0, imbalance = 0.0, wall = 0.0;
   double minibatches = 0.0;  // with a gradient: those applied, and the one that stopped the update early
   std::size_t restarts = 0;  // episodes that ended before the rollout's last step and so restarted
-  const MachineTimes m0 = machine_times();
+  MachineTimes machine_before, machine_after;
+};
+
+std::size_t restarted_episodes(const core::IterationReport& report, int psi, int n_steps) {
+  std::size_t restarts = 0;
+  std::vector<int> taken(static_cast<std::size_t>(psi), 0);  // decisions of each environment so far
+  for (const core::EpisodeRecord& episode : report.episodes) {
+    const auto env = static_cast<std::size_t>(episode.env);
+    taken[env] += episode.decisions;
+    if (episode.reason != "rollout_end" && taken[env] < n_steps) ++restarts;
+  }
+  return restarts;
+}
+
+TimedIterations run_timed_iterations(const Launch& launch, CostLog& log) {
+  TimedIterations timed;
+  double recording_s = 0.0;
+  timed.machine_before = machine_times();
   const auto t0 = std::chrono::steady_clock::now();
-  for (int k = 0; k < o.iterations; ++k) {
-    const core::IterationReport r = loop.iterate();
-    collect += r.collect_s;
-    update += r.update_s;
-    dist += r.distribution_s;
-    policy += r.policy_s;
-    minibatches += r.ppo.minibatches_applied + (r.ppo.early_stopped ? 1 : 0);
-    std::vector<int> taken(static_cast<std::size_t>(psi), 0);  // decisions of each environment so far
-    for (const core::EpisodeRecord& e : r.episodes) {
-      taken[static_cast<std::size_t>(e.env)] += e.decisions;
-      if (e.reason != "rollout_end" && taken[static_cast<std::size_t>(e.env)] < n_steps) ++restarts;
-    }
+  for (int k = 0; k < launch.options.iterations; ++k) {
+    const core::IterationReport report = launch.loop.iterate();
+    timed.collect += report.collect_s;
+    timed.update += report.update_s;
+    timed.dist += report.distribution_s;
+    timed.policy += report.policy_s;
+    timed.minibatches += report.ppo.minibatches_applied + (report.ppo.early_stopped ? 1 : 0);
+    timed.restarts += restarted_episodes(report, launch.psi, launch.n_steps);
     // Not part of a run (under MPI an exchange with every rank): left out of the wall time.
     const auto q0 = std::chrono::steady_clock::now();
-    const std::vector<double> work = keep_costs(r);
-    if (mpi_pool) imbalance += mpi_pool->imbalance(work);
-    imbalance_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - q0).count();
+    const std::vector<double> work = keep_costs(launch, report, log);
+    if (launch.mpi_pool) timed.imbalance += launch.mpi_pool->imbalance(work);
+    recording_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - q0).count();
   }
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() - imbalance_s;
-  const MachineTimes m1 = machine_times();
-  const double env_cpu = (pool->settle_seconds() - settle0 + pool->step_seconds() - step0) / o.iterations / psi;
-  const double n = o.iterations;
-  // The collection wall of one environment in one round of the busiest rank's threads: this
-  // launch's collection less its policy inference and its messages, over its rounds.
-  const int exchanges = ran_ahead ? 1 : n_steps + 1;
-  const double messages = (ranks - 1) * exchanges * exchange;
-  const double env_wall =
-      std::max(0.0, collect / n - policy / n - messages) /
-      static_cast<double>(cluster::collection_rounds(static_cast<std::size_t>(psi), ranks, static_cast<int>(threads)));
+  timed.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() - recording_s;
+  timed.machine_after = machine_times();
+  return timed;
+}
+
+// The collection of one environment per iteration: CPU in settles and FEM steps, and the wall of
+// one round of the busiest rank's threads (the model's c): this launch's collection less its
+// policy inference and its messages (`exchanges` per iteration with each rank), over its rounds.
+struct EnvCollection {
+  double cpu = 0.0, wall = 0.0;
+  int exchanges = 0;
+};
+
+EnvCollection env_collection(const Launch& launch, const CountersAtStart& start, const TimedIterations& timed,
+                             const MessageCosts& messages) {
+  const int psi = launch.psi;
+  const double n = launch.options.iterations;
+  EnvCollection env;
+  env.cpu = (launch.pool.settle_seconds() - start.settle + launch.pool.step_seconds() - start.step) /
+            launch.options.iterations / psi;
+  env.exchanges = messages.ran_ahead ? 1 : launch.n_steps + 1;
+  const double message_s = (launch.ranks - 1) * env.exchanges * messages.exchange;
+  env.wall = std::max(0.0, timed.collect / n - timed.policy / n - message_s) /
+             static_cast<double>(cluster::collection_rounds(static_cast<std::size_t>(psi), launch.ranks,
+                                                            static_cast<int>(launch.threads)));
+  return env;
+}
+
+// Rank 0's wall per iteration and its parts, the collection per environment, the simulators built
+// and the settles and restarts.
+void print_measured(const Launch& launch, const CountersAtStart& start, const TimedIterations& timed,
+                    const EnvCollection& env) {
+  const cluster::MpiEnvPool* mpi_pool = launch.mpi_pool;
+  const double n = launch.options.iterations;
   std::printf("bench cluster: measured on %d rank(s): %.3f s per iteration: collection %.3f s (policy inference "
               "%.3f s of it), PPO update %.3f s, distribution %.4f s; rank 0's peak resident memory %.0f MiB\n",
-              ranks, wall / n, collect / n, policy / n, update / n, dist / n, peak_resident_mib());
+              launch.ranks, timed.wall / n, timed.collect / n, timed.policy / n, timed.update / n, timed.dist / n,
+              peak_resident_mib());
   std::printf("  collection of one environment per iteration: %.4f s CPU in settles and FEM steps, %.4f s wall per "
               "round of a rank's threads (the model's c)\n",
-              env_cpu, env_wall);
+              env.cpu, env.wall);
   std::printf("  simulators built during the timed iterations on rank 0: %d (after %d warm-up iteration(s)); CPU "
               "in building simulators and meshing designs, every rank: %.3f s per iteration\n",
-              sims->constructed() - built0, o.warmup, (pool->build_seconds() - build0) / n);
+              launch.sims.constructed() - start.built, launch.options.warmup,
+              (launch.pool.build_seconds() - start.build) / n);
   if (mpi_pool)
     std::printf("  designs' meshes during the timed iterations: %d made on the other ranks and sent to rank 0, %d sent "
                 "to a rank that had not built the design (built there from the mesh: %.4f s CPU each on rank 0, "
                 "against %.4f s to mesh one)\n",
-                mpi_pool->meshes_received() - received0, mpi_pool->meshes_sent() - sent0,
-                sims->build_stats().seconds_per_adopted(), sims->build_stats().seconds_per_model());
+                mpi_pool->meshes_received() - start.received, mpi_pool->meshes_sent() - start.sent,
+                launch.sims.build_stats().seconds_per_adopted(), launch.sims.build_stats().seconds_per_model());
   std::printf("  of it in settles (each start's and each restart's): %.4f s CPU; episodes restarted within a rollout: "
               "%.1f per iteration\n",
-              (pool->settle_seconds() - settle0) / o.iterations / psi, static_cast<double>(restarts) / n);
-  if (mpi_pool)
-    std::printf("  environments shared out by cost at %d of %d timed starts; the busiest rank's settle and step CPU "
-                "over the mean rank's: %.3f (mean over the timed iterations; 1 = balanced)\n",
-                mpi_pool->reassigned_starts() - moved0, mpi_pool->starts() - starts0, imbalance / o.iterations);
-  if (mpi_pool)
-    std::printf("  rank 0 idle at the meeting points, waiting for the other ranks after its own share: %.3f s per "
-                "iteration (%.3f s at the start, %.3f s over the steps)\n",
-                (mpi_pool->start_wait_seconds() - start_wait0 + mpi_pool->step_wait_seconds() - step_wait0) / o.iterations,
-                (mpi_pool->start_wait_seconds() - start_wait0) / o.iterations,
-                (mpi_pool->step_wait_seconds() - step_wait0) / o.iterations);
-  if (mpi_pool)
-    std::printf("  whole rollouts on the ranks (meeting once per iteration): %d of %d timed iterations%s; rank 0 idle "
-                "waiting for the other ranks' records after its own share: %.3f s per iteration; rank 0 "
-                "stepped on threads lent by ranks of its machine that were done: %.3f s per iteration (every rank: "
-                "%.3f s)\n",
-                mpi_pool->rollouts() - rollouts0, o.iterations, o.lockstep ? " (--lockstep)" : "",
-                (mpi_pool->rollout_wait_seconds() - rollout_wait0) / o.iterations,
-                (mpi_pool->lent_seconds() - lent0) / o.iterations,
-                (mpi_pool->lent_seconds_of_all_ranks() - lent_all0) / o.iterations);
-  if (m1.busy + m1.idle > 0.0)
+              (launch.pool.settle_seconds() - start.settle) / launch.options.iterations / launch.psi,
+              static_cast<double>(timed.restarts) / n);
+}
+
+// Under mpirun: how the environments were shared out, how long rank 0 waited for the other ranks,
+// and the whole rollouts and lent threads.
+void print_mpi_sharing(const cluster::MpiEnvPool& mpi_pool, const BenchClusterOptions& options,
+                       const CountersAtStart& start, const TimedIterations& timed) {
+  const int iterations = options.iterations;
+  std::printf("  environments shared out by cost at %d of %d timed starts; the busiest rank's settle and step CPU "
+              "over the mean rank's: %.3f (mean over the timed iterations; 1 = balanced)\n",
+              mpi_pool.reassigned_starts() - start.moved, mpi_pool.starts() - start.starts,
+              timed.imbalance / iterations);
+  std::printf("  rank 0 idle at the meeting points, waiting for the other ranks after its own share: %.3f s per "
+              "iteration (%.3f s at the start, %.3f s over the steps)\n",
+              (mpi_pool.start_wait_seconds() - start.start_wait + mpi_pool.step_wait_seconds() - start.step_wait) /
+                  iterations,
+              (mpi_pool.start_wait_seconds() - start.start_wait) / iterations,
+              (mpi_pool.step_wait_seconds() - start.step_wait) / iterations);
+  std::printf("  whole rollouts on the ranks (meeting once per iteration): %d of %d timed iterations%s; rank 0 idle "
+              "waiting for the other ranks' records after its own share: %.3f s per iteration; rank 0 "
+              "stepped on threads lent by ranks of its machine that were done: %.3f s per iteration (every rank: "
+              "%.3f s)\n",
+              mpi_pool.rollouts() - start.rollouts, iterations, options.lockstep ? " (--lockstep)" : "",
+              (mpi_pool.rollout_wait_seconds() - start.rollout_wait) / iterations,
+              (mpi_pool.lent_seconds() - start.lent) / iterations,
+              (mpi_pool.lent_seconds_of_all_ranks() - start.lent_all) / iterations);
+}
+
+// The machine's core-seconds over the timed iterations, and the exchange's cost.
+void print_machine_and_exchange(const Launch& launch, const TimedIterations& timed, const EnvCollection& env,
+                                const MessageCosts& messages) {
+  const double n = launch.options.iterations;
+  const MachineTimes& before = timed.machine_before;
+  const MachineTimes& after = timed.machine_after;
+  if (after.busy + after.idle > 0.0)
     std::printf("  the machine over the timed iterations (/proc/stat, every process): %.3f core-s busy, %.3f idle, %.3f "
                 "stolen by the hypervisor per iteration; busy beyond the settles and FEM steps: %.3f core-s\n",
-                (m1.busy - m0.busy) / n, (m1.idle - m0.idle) / n, (m1.stolen - m0.stolen) / n,
-                (m1.busy - m0.busy) / n - env_cpu * psi);
-  if (ranks > 1)
+                (after.busy - before.busy) / n, (after.idle - before.idle) / n, (after.stolen - before.stolen) / n,
+                (after.busy - before.busy) / n - env.cpu * launch.psi);
+  if (launch.ranks > 1)
     std::printf("  one exchange rank 0 <-> one rank (%s, mean of %d rounds over %d ranks): %.1f us\n",
-                ran_ahead ? "a whole rollout's shape" : "a step's shape", o.exchanges, ranks - 1, 1e6 * exchange);
+                messages.ran_ahead ? "a whole rollout's shape" : "a step's shape", launch.options.exchanges,
+                launch.ranks - 1, 1e6 * messages.exchange);
   else
     std::printf("  exchange cost not measured (one process; run under mpirun -np 2 for it): the model's message "
                 "term is 0\n");
+}
 
-  cluster::ScalingCosts c;
-  c.environments = static_cast<std::size_t>(psi);
-  c.threads_per_rank = o.model_threads > 0 ? o.model_threads : static_cast<int>(threads);
-  c.env_collect_s = env_wall;
-  c.exchanges = exchanges;
-  c.exchange_s = exchange;
-  c.update_s = update / n;
+// The scaling model's costs as measured by this launch (threads per rank: --model-threads, else
+// this launch's).
+cluster::ScalingCosts measured_scaling_costs(const Launch& launch, const TimedIterations& timed,
+                                             const EnvCollection& env, const MessageCosts& messages) {
+  const double n = launch.options.iterations;
+  cluster::ScalingCosts scaling;
+  scaling.environments = static_cast<std::size_t>(launch.psi);
+  scaling.threads_per_rank =
+      launch.options.model_threads > 0 ? launch.options.model_threads : static_cast<int>(launch.threads);
+  scaling.env_collect_s = env.wall;
+  scaling.exchanges = env.exchanges;
+  scaling.exchange_s = messages.exchange;
+  scaling.update_s = timed.update / n;
   // Policy inference runs on rank 0 while the ranks wait; it is part of the collection's wall.
-  c.policy_s = policy / n;
-  c.distribution_s = dist / n;
-  const double iterations_total =
-      static_cast<double>(lc.codesign.total_timesteps) / (static_cast<double>(psi) * n_steps);
+  scaling.policy_s = timed.policy / n;
+  scaling.distribution_s = timed.dist / n;
+  return scaling;
+}
+
+// The same costs with the update spread over the ranks (not built; a bound).
+cluster::ScalingCosts with_update_spread(const cluster::ScalingCosts& scaling) {
+  cluster::ScalingCosts spread = scaling;
+  spread.update_spread = true;
+  return spread;
+}
+
+// Seconds per iteration and the run's minutes for 1 .. psi ranks, with the update on rank 0 and
+// spread, and the goal of 5 minutes on 16 ranks.
+void print_model(const Launch& launch, const cluster::ScalingCosts& scaling, double iterations_total) {
+  const int psi = launch.psi;
   std::printf("bench cluster: model (docs/cluster.md): %d thread(s) per rank, %.0f iterations for %lld timesteps\n",
-              c.threads_per_rank, iterations_total, static_cast<long long>(lc.codesign.total_timesteps));
+              scaling.threads_per_rank, iterations_total, static_cast<long long>(launch.lc.codesign.total_timesteps));
   std::printf("  ranks | update on rank 0 (built): s per iteration, run, speed-up | update spread (bound): s per "
               "iteration, run\n");
-  cluster::ScalingCosts spread = c;
-  spread.update_spread = true;
-  const double base = cluster::iteration_seconds(c, 1);
+  const cluster::ScalingCosts spread = with_update_spread(scaling);
+  const double base = cluster::iteration_seconds(scaling, 1);
   for (int r : {1, 2, 4, 8, 16, 32, 64}) {
     if (r > psi) break;
-    const double it = cluster::iteration_seconds(c, r), its = cluster::iteration_seconds(spread, r);
-    std::printf("  %5d | %7.3f s %8.1f min %6.2fx | %7.3f s %8.1f min%s\n", r, it, iterations_total * it / 60.0,
-                base / it, its, iterations_total * its / 60.0,
-                r == ranks && c.threads_per_rank == static_cast<int>(threads)
-                    ? (oversubscribed ? "   (this launch: measured above; cores shared)" : "   (this launch: measured above)")
+    const double on_rank0 = cluster::iteration_seconds(scaling, r), spread_s = cluster::iteration_seconds(spread, r);
+    std::printf("  %5d | %7.3f s %8.1f min %6.2fx | %7.3f s %8.1f min%s\n", r, on_rank0,
+                iterations_total * on_rank0 / 60.0, base / on_rank0, spread_s, iterations_total * spread_s / 60.0,
+                r == launch.ranks && scaling.threads_per_rank == static_cast<int>(launch.threads)
+                    ? (launch.oversubscribed ? "   (this launch: measured above; cores shared)"
+                                             : "   (this launch: measured above)")
                     : "");
   }
   if (psi >= 16) {
-    const double m16 = iterations_total * cluster::iteration_seconds(c, 16) / 60.0;
+    const double m16 = iterations_total * cluster::iteration_seconds(scaling, 16) / 60.0;
     const double s16 = iterations_total * cluster::iteration_seconds(spread, 16) / 60.0;
     std::printf("  goal (docs/journal/cluster.md): the run in <= 5 min on 16 ranks by the model: %.1f min with the update on rank 0: "
                 "%s; %.1f min with it spread (not built; messages free, priced below): %s\n",
                 m16, m16 <= 5.0 ? "met" : "NOT met", s16, s16 <= 5.0 ? "would be met" : "NOT met either");
   }
-  // The spread update with its gradients' messages at their least (scaling_model.hpp), y from
-  // this launch's ranks (shared memory on one machine) and from links of given speeds.
-  {
-    cluster::ScalingCosts priced = spread;  // e and y are set per row below
-    priced.update_minibatches = minibatches / n;
-    const double bytes = 4.0 * static_cast<double>(gradient_floats);
-    std::printf("bench cluster: the update spread with its messages: %.1f minibatches with a gradient per iteration, a "
-                "gradient of %zu floats (%.1f MB), 2 (N-1)/N gradients in and out of every rank per minibatch\n",
-                priced.update_minibatches, gradient_floats, bytes / 1e6);
-    // e(N): the busiest rank's share of a minibatch, ceil(B/N) samples, against the whole (one thread);
-    // for the recurrent policy ceil(S/N) whole sequences of the minibatch's S (at least one: with
-    // more ranks than sequences the others have nothing to do, which e prices).
-    const int batch = lc.ppo.batch_size;
-    std::map<int, double> share_cost;
-    if (!loop.recurrent_model()) {
-      const double whole = minibatch_gradient_seconds(loop.model(), batch, 15);
-      std::printf("  one minibatch's loss and gradient on one thread, %d samples: %.2f ms; the busiest rank's share "
-                  "on N ranks, times N, over it (the model's e):",
-                  batch, 1e3 * whole);
-      for (int r : {2, 4, 8, 16, 32, 64}) {
-        if (r > psi || r > batch) break;
-        const int share = (batch + r - 1) / r;
-        share_cost[r] = minibatch_gradient_seconds(loop.model(), share, 15) * r / whole;
-        std::printf(" N = %d (%d samples) %.2f;", r, share, share_cost[r]);
-      }
-      std::printf("\n");
-    } else {
-      const int per = rl::sequences_per_minibatch(lc.ppo, psi);
-      const rl::RecurrentActorCritic& rm = *loop.recurrent_model();
-      const double whole = recurrent_minibatch_gradient_seconds(rm, per, n_steps, 15);
-      std::printf("  one minibatch's loss and gradient on one thread, %d sequences of %d decisions: %.2f ms; the "
-                  "busiest rank's share on N ranks, times N, over it (the model's e):",
-                  per, n_steps, 1e3 * whole);
-      for (int r : {2, 4, 8, 16, 32, 64}) {
-        if (r > psi) break;
-        const int share = (per + r - 1) / r;
-        share_cost[r] = recurrent_minibatch_gradient_seconds(rm, share, n_steps, 15) * r / whole;
-        std::printf(" N = %d (%d sequence(s)) %.2f;", r, share, share_cost[r]);
-      }
-      std::printf("\n");
-    }
-    std::vector<std::pair<std::string, double>> links;
-    if (ranks > 1) links.emplace_back("this launch's ranks", gradient_transfer);
-    for (double gbps : {10.0, 25.0, 100.0})
-      links.emplace_back(std::to_string(static_cast<int>(gbps)) + " Gb/s link", bytes * 8.0 / (gbps * 1e9));
-    std::printf("  ranks | update on rank 0 | spread (e u/N), messages free");
-    for (const auto& [name, y] : links) std::printf(" | spread, %s (y = %.2f ms)", name.c_str(), 1e3 * y);
-    std::printf("   (run, min)\n");
-    for (int r : {1, 2, 4, 8, 16, 32, 64}) {
-      if (r > psi) break;
-      cluster::ScalingCosts free_messages = priced;  // y = 0
-      free_messages.update_share_cost = share_cost.count(r) ? share_cost[r] : 1.0;
-      std::printf("  %5d | %16.1f | %29.1f", r, iterations_total * cluster::iteration_seconds(c, r) / 60.0,
-                  iterations_total * cluster::iteration_seconds(free_messages, r) / 60.0);
-      for (const auto& [name, y] : links) {
-        cluster::ScalingCosts with = free_messages;
-        with.gradient_transfer_s = y;
-        std::printf(" | %*.1f", static_cast<int>(name.size()) + 21,
-                    iterations_total * cluster::iteration_seconds(with, r) / 60.0);
-      }
-      std::printf("\n");
-    }
+}
+
+// e(N): the busiest rank's share of a minibatch, ceil(B/N) samples, against the whole (one
+// thread), for the feed-forward policy. Prints the measured figures.
+std::map<int, double> feedforward_share_costs(const Launch& launch) {
+  std::map<int, double> share_cost;
+  const int batch = launch.lc.ppo.batch_size;
+  const double whole = minibatch_gradient_seconds(launch.loop.model(), batch, 15);
+  std::printf("  one minibatch's loss and gradient on one thread, %d samples: %.2f ms; the busiest rank's share "
+              "on N ranks, times N, over it (the model's e):",
+              batch, 1e3 * whole);
+  for (int r : {2, 4, 8, 16, 32, 64}) {
+    if (r > launch.psi || r > batch) break;
+    const int share = (batch + r - 1) / r;
+    share_cost[r] = minibatch_gradient_seconds(launch.loop.model(), share, 15) * r / whole;
+    std::printf(" N = %d (%d samples) %.2f;", r, share, share_cost[r]);
   }
-  // The designs' cost spread: how much more the busiest rank carries than the model's rounds · c.
+  std::printf("\n");
+  return share_cost;
+}
+
+// The same for the recurrent policy: ceil(S/N) whole sequences of the minibatch's S (at least
+// one: with more ranks than sequences the others have nothing to do, which e prices).
+std::map<int, double> recurrent_share_costs(const Launch& launch) {
+  std::map<int, double> share_cost;
+  const int n_steps = launch.n_steps;
+  const int sequences = rl::sequences_per_minibatch(launch.lc.ppo, launch.psi);
+  const rl::RecurrentActorCritic& model = *launch.loop.recurrent_model();
+  const double whole = recurrent_minibatch_gradient_seconds(model, sequences, n_steps, 15);
+  std::printf("  one minibatch's loss and gradient on one thread, %d sequences of %d decisions: %.2f ms; the "
+              "busiest rank's share on N ranks, times N, over it (the model's e):",
+              sequences, n_steps, 1e3 * whole);
+  for (int r : {2, 4, 8, 16, 32, 64}) {
+    if (r > launch.psi) break;
+    const int share = (sequences + r - 1) / r;
+    share_cost[r] = recurrent_minibatch_gradient_seconds(model, share, n_steps, 15) * r / whole;
+    std::printf(" N = %d (%d sequence(s)) %.2f;", r, share, share_cost[r]);
+  }
+  std::printf("\n");
+  return share_cost;
+}
+
+// The spread update with its gradients' messages at their least (scaling_model.hpp), y from
+// this launch's ranks (shared memory on one machine) and from links of given speeds.
+void print_spread_update(const Launch& launch, const cluster::ScalingCosts& scaling, double iterations_total,
+                         const TimedIterations& timed, const MessageCosts& messages) {
+  cluster::ScalingCosts priced = with_update_spread(scaling);  // e and y are set per row below
+  priced.update_minibatches = timed.minibatches / launch.options.iterations;
+  const double bytes = 4.0 * static_cast<double>(messages.gradient_floats);
+  std::printf("bench cluster: the update spread with its messages: %.1f minibatches with a gradient per iteration, a "
+              "gradient of %zu floats (%.1f MB), 2 (N-1)/N gradients in and out of every rank per minibatch\n",
+              priced.update_minibatches, messages.gradient_floats, bytes / 1e6);
+  std::map<int, double> share_cost =
+      launch.loop.recurrent_model() ? recurrent_share_costs(launch) : feedforward_share_costs(launch);
+  std::vector<std::pair<std::string, double>> links;
+  if (launch.ranks > 1) links.emplace_back("this launch's ranks", messages.gradient_transfer);
+  for (double gbps : {10.0, 25.0, 100.0})
+    links.emplace_back(std::to_string(static_cast<int>(gbps)) + " Gb/s link", bytes * 8.0 / (gbps * 1e9));
+  std::printf("  ranks | update on rank 0 | spread (e u/N), messages free");
+  for (const auto& [name, transfer_s] : links)
+    std::printf(" | spread, %s (y = %.2f ms)", name.c_str(), 1e3 * transfer_s);
+  std::printf("   (run, min)\n");
+  for (int r : {1, 2, 4, 8, 16, 32, 64}) {
+    if (r > launch.psi) break;
+    cluster::ScalingCosts free_messages = priced;  // y = 0
+    free_messages.update_share_cost = share_cost.count(r) ? share_cost[r] : 1.0;
+    std::printf("  %5d | %16.1f | %29.1f", r, iterations_total * cluster::iteration_seconds(scaling, r) / 60.0,
+                iterations_total * cluster::iteration_seconds(free_messages, r) / 60.0);
+    for (const auto& [name, transfer_s] : links) {
+      cluster::ScalingCosts with = free_messages;
+      with.gradient_transfer_s = transfer_s;
+      std::printf(" | %*.1f", static_cast<int>(name.size()) + 21,
+                  iterations_total * cluster::iteration_seconds(with, r) / 60.0);
+    }
+    std::printf("\n");
+  }
+}
+
+// The designs' cost spread: how much more the busiest rank carries than the model's rounds · c.
+void print_cost_spread(const Launch& launch, const cluster::ScalingCosts& scaling, double iterations_total,
+                       const std::vector<cluster::CostSample>& costs) {
+  const int spread_draws = launch.options.spread_draws;
   std::map<int, int> designs;
-  for (const cluster::CostSample& k : costs) ++designs[k.design];
-  std::printf("bench cluster: the designs' cost spread (cluster/cost_spread.hpp), from %zu samples of %zu designs "
+  for (const cluster::CostSample& sample : costs) ++designs[sample.design];
+  std::printf("bench cluster: the designs' cost spread (apps/bench/cost_spread.hpp), from %zu samples of %zu designs "
               "(every iteration above): F = the busiest rank's collection over the model's rounds x c, mean of %d "
               "simulated iterations\n",
-              costs.size(), designs.size(), o.spread_draws);
-  const cluster::CostSummary cs = cluster::summarize_costs(costs);
+              costs.size(), designs.size(), spread_draws);
+  const cluster::CostSummary summary = cluster::summarize_costs(costs);
   std::printf("  one environment's settle and step CPU per iteration: mean %.3f s; the designs' means %.3f to %.3f s "
               "(standard deviation %.3f s across designs, %.3f s within a design)\n",
-              cs.mean, cs.least_design, cs.largest_design, cs.across_designs, cs.within_design);
+              summary.mean, summary.least_design, summary.largest_design, summary.across_designs,
+              summary.within_design);
   std::printf("  ranks | F contiguous slices | F split by cost (built) | run, update on rank 0: with F contiguous, "
               "with F by cost\n");
   for (int r : {1, 2, 4, 8, 16, 32, 64}) {
-    if (r > psi) break;
-    const cluster::BusiestLoad f = cluster::busiest_load_factor(costs, static_cast<std::size_t>(psi), r,
-                                                                c.threads_per_rank, o.spread_draws, 20261204);
-    cluster::ScalingCosts contiguous = c, by_cost = c;
-    contiguous.collect_factor = f.contiguous;
-    by_cost.collect_factor = f.by_cost;
-    std::printf("  %5d | %19.3f | %23.3f | %8.1f min, %8.1f min\n", r, f.contiguous, f.by_cost,
+    if (r > launch.psi) break;
+    const cluster::BusiestLoad load = cluster::busiest_load_factor(costs, static_cast<std::size_t>(launch.psi), r,
+                                                                   scaling.threads_per_rank, spread_draws, 20261204);
+    cluster::ScalingCosts contiguous = scaling, by_cost = scaling;
+    contiguous.collect_factor = load.contiguous;
+    by_cost.collect_factor = load.by_cost;
+    std::printf("  %5d | %19.3f | %23.3f | %8.1f min, %8.1f min\n", r, load.contiguous, load.by_cost,
                 iterations_total * cluster::iteration_seconds(contiguous, r) / 60.0,
                 iterations_total * cluster::iteration_seconds(by_cost, r) / 60.0);
   }
+}
+
+// The part of an iteration no rank count shortens, and the run's least time with it.
+void print_serial_part(const cluster::ScalingCosts& scaling, double iterations_total) {
   std::printf("  serial part per iteration (update + policy + distribution): %.3f s: with the update on rank 0 the "
               "model's floor is %.1f min\n",
-              c.update_s + c.policy_s + c.distribution_s,
-              iterations_total * (c.update_s + c.policy_s + c.distribution_s + c.env_collect_s) / 60.0);
-  const bool whole_rollouts = core::whole_rollouts_allowed(lc);
-  if (!decision_costs.empty())
-    print_meetings(decision_costs, c, iterations_total, static_cast<int>(threads), whole_rollouts, o, whole_run);
+              scaling.update_s + scaling.policy_s + scaling.distribution_s,
+              iterations_total *
+                  (scaling.update_s + scaling.policy_s + scaling.distribution_s + scaling.env_collect_s) / 60.0);
+}
+
+int run_bench_cluster(const BenchClusterOptions& options) {
+  // Read first: a bad run folder is one message before any work.
+  const std::vector<cluster::RunIteration> whole_run =
+      options.from_run.empty() ? std::vector<cluster::RunIteration>{} : read_run_iterations(options.from_run);
+  const run::RunConfig setup = run::read_run_config(options.config);
+  const run::RunSettings settings = run::run_settings(setup);
+  const core::LoopConfig& lc = settings.loop;
+  const std::vector<int> here = cluster::ranks_on_this_machine();  // collective: before the ranks part
+  if (run::serve_unless_rank_zero(settings, static_cast<std::size_t>(options.threads), here)) return 0;
+  const int ranks = cluster::world_size();
+  auto sims = std::make_shared<core::SimulatorPool>(settings.spec, settings.scene, settings.solver);
+  RolloutPool rollout_pool = make_bench_pool(sims, lc, options, ranks, here);
+  core::EnvPool& pool = *rollout_pool.owned;
+  const std::size_t threads =
+      options.threads > 0 ? static_cast<std::size_t>(options.threads) : std::max(1u, std::thread::hardware_concurrency());
+  core::OuterLoop loop(lc, std::move(rollout_pool.owned));
+  const int ranks_here = static_cast<int>(here.size());
+  const Launch launch{options, lc, loop, *sims, pool, rollout_pool.mpi, rollout_pool.recorder, ranks, threads,
+                      lc.codesign.designs_per_update, lc.ppo.n_steps, ranks_here, cores_shared(ranks_here, threads)};
+  print_launch(launch);
+
+  CostLog log;
+  // The warm-up meshes the designs first sampled and builds their simulators.
+  for (int k = 0; k < options.warmup; ++k) keep_costs(launch, loop.iterate(), log);
+  const int built = sims->constructed();
+  const MessageCosts messages = time_messages(launch);
+  const CountersAtStart start = read_counters(launch, built);
+  const TimedIterations timed = run_timed_iterations(launch, log);
+
+  const EnvCollection env = env_collection(launch, start, timed, messages);
+  print_measured(launch, start, timed, env);
+  if (launch.mpi_pool) print_mpi_sharing(*launch.mpi_pool, options, start, timed);
+  print_machine_and_exchange(launch, timed, env, messages);
+
+  const cluster::ScalingCosts scaling = measured_scaling_costs(launch, timed, env, messages);
+  const double iterations_total =
+      static_cast<double>(lc.codesign.total_timesteps) / (static_cast<double>(launch.psi) * launch.n_steps);
+  print_model(launch, scaling, iterations_total);
+  print_spread_update(launch, scaling, iterations_total, timed, messages);
+  print_cost_spread(launch, scaling, iterations_total, log.costs);
+  print_serial_part(scaling, iterations_total);
+  if (!log.decision_costs.empty())
+    print_meetings(log.decision_costs, scaling, iterations_total, static_cast<int>(threads),
+                   core::whole_rollouts_allowed(lc), options, whole_run);
   else
     std::printf("bench cluster: the meetings at every decision are simulated from a one-process launch's decision "
                 "costs (not recorded under mpirun)\n");

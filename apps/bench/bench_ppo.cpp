@@ -224,11 +224,27 @@ double minibatch_pass_seconds(int hidden, int batch, int reps) {
   return minibatch_loss_seconds<S>(model, mb, {0.2, 0.01, 0.6, true}, 0, reps);
 }
 
-// Median times of `reps` iterations (after one warm-up) of a fresh model with the given
-// product precision / GEMM choice.
+// Median times of iterations.
 struct Measured {
   double wall = 0, cpu = 0, rollout = 0, update = 0;
 };
+
+// The medians of `reps` calls of `iterate`, each returning its IterationTimes.
+template <class Iterate>
+Measured median_times(int reps, Iterate&& iterate) {
+  std::vector<double> total, cpu, rollout, update;
+  for (int r = 0; r < reps; ++r) {
+    const IterationTimes times = iterate();
+    total.push_back(times.total());
+    cpu.push_back(times.cpu);
+    rollout.push_back(times.rollout);
+    update.push_back(times.update);
+  }
+  return {median(total), median(cpu), median(rollout), median(update)};
+}
+
+// Median times of `reps` iterations (after one warm-up) of a fresh model with the given
+// product precision / GEMM choice.
 Measured measure(const rl::PpoConfig& cfg, int n_envs, int reps, rl::MatmulPrecision precision,
                  bool fast_gemm) {
   rl::Rng rng(2024);
@@ -238,238 +254,295 @@ Measured measure(const rl::PpoConfig& cfg, int n_envs, int reps, rl::MatmulPreci
   model.set_matmul_precision(precision);
   rl::Adam adam = rl::make_adam(cfg);
   run_iteration(model, adam, cfg, n_envs, rng);  // warm-up (allocations, page faults)
-  std::vector<double> total, cpu, rollout, update;
-  for (int r = 0; r < reps; ++r) {
-    const IterationTimes t = run_iteration(model, adam, cfg, n_envs, rng);
-    total.push_back(t.total());
-    cpu.push_back(t.cpu);
-    rollout.push_back(t.rollout);
-    update.push_back(t.update);
-  }
-  return {median(total), median(cpu), median(rollout), median(update)};
+  return median_times(reps, [&] { return run_iteration(model, adam, cfg, n_envs, rng); });
 }
 
-int run_bench(const BenchOptions& o) {
-  Eigen::setNbThreads(1);
-  rl::PpoConfig cfg = rl::paper_ppo_config();
-  cfg.n_steps = o.n_steps;
-  cfg.actor_hidden = cfg.critic_hidden = {o.hidden, o.hidden, o.hidden};
-  const int samples = o.n_envs * o.n_steps;
-  if (o.precision == "bf16" && !rl::bf16_gemm_available()) {
-    std::fprintf(stderr, "codesign: error: bench ppo: --precision bf16 needs AVX-512 BF16, which "
-                         "this build/CPU does not have; allowed here: auto, float32\n");
-    return 2;
-  }
-  const rl::MatmulPrecision precision =
-      rl::resolve(value_of(rl::kMatmulChoiceNames, o.precision).value_or(rl::MatmulChoice::Auto));
+// What the parts of the benchmark share: the options, the PPO config at their sizes with
+// target_kl off (all epochs run), the matrix products' precision, the repetitions of the
+// comparisons, and the measured iteration they are compared with with its GEMM flops.
+struct PpoBench {
+  const BenchOptions& options;
+  rl::PpoConfig cfg;
+  rl::MatmulPrecision precision;
+  int base_reps;
+  double flops;
+  Measured main_run;
+};
 
+rl::PpoConfig bench_config(const BenchOptions& options) {
+  rl::PpoConfig cfg = rl::paper_ppo_config();
+  cfg.n_steps = options.n_steps;
+  cfg.actor_hidden = cfg.critic_hidden = {options.hidden, options.hidden, options.hidden};
+  cfg.target_kl.reset();
+  return cfg;
+}
+
+void print_header(const PpoBench& bench) {
+  const BenchOptions& options = bench.options;
+  const rl::PpoConfig& cfg = bench.cfg;
+  const int samples = options.n_envs * options.n_steps;
   std::printf("PPO iteration benchmark (one thread, Eigen %d.%d.%d, SIMD: %s)\n",
               EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION,
               Eigen::SimdInstructionSetsInUse());
   std::printf("  %d envs x %d steps = %d samples, obs 6, act 1, actor/critic [%d, %d, %d], "
               "batch %d, %d epochs\n",
-              o.n_envs, o.n_steps, samples, o.hidden, o.hidden, o.hidden, cfg.batch_size,
-              cfg.n_epochs);
+              options.n_envs, options.n_steps, samples, options.hidden, options.hidden, options.hidden,
+              cfg.batch_size, cfg.n_epochs);
   std::printf("  matrix products: %s (--precision %s; training's default is auto)\n",
-              describe(precision), o.precision.c_str());
-  {
-    rl::ActorCritic probe(6, 1, cfg.actor_hidden, cfg.critic_hidden);
-    std::printf("  parameters: %lld (actor %lld, critic %lld, log_std %lld)\n",
-                static_cast<long long>(probe.num_params()),
-                static_cast<long long>(probe.actor().num_params()),
-                static_cast<long long>(probe.critic().num_params()),
-                static_cast<long long>(probe.log_std().size()));
-  }
+              describe(bench.precision), options.precision.c_str());
+  const rl::ActorCritic probe(6, 1, cfg.actor_hidden, cfg.critic_hidden);
+  std::printf("  parameters: %lld (actor %lld, critic %lld, log_std %lld)\n",
+              static_cast<long long>(probe.num_params()),
+              static_cast<long long>(probe.actor().num_params()),
+              static_cast<long long>(probe.critic().num_params()),
+              static_cast<long long>(probe.log_std().size()));
+}
 
-  // target_kl disabled: all epochs run.
-  cfg.target_kl.reset();
-  rl::ActorCritic counter(6, 1, cfg.actor_hidden, cfg.critic_hidden);
-  const double flops = iteration_flops(counter, samples, cfg.n_epochs);
-  const Measured main_run = measure(cfg, o.n_envs, o.reps, precision, true);
-  const double med = main_run.wall;
-  std::printf("\n  target_kl off (all %d epochs), median of %d:\n", cfg.n_epochs, o.reps);
-  std::printf("    iteration      %.3f s   (rollout forwards %.3f s, update %.3f s)\n", med,
+// The iteration at the measured precision, all epochs: its median times and GEMM rate, against
+// the goal of 0.8 s.
+void time_main_iteration(PpoBench& bench) {
+  const BenchOptions& options = bench.options;
+  const rl::PpoConfig& cfg = bench.cfg;
+  const rl::ActorCritic counter(6, 1, cfg.actor_hidden, cfg.critic_hidden);
+  bench.flops = iteration_flops(counter, options.n_envs * options.n_steps, cfg.n_epochs);
+  bench.main_run = measure(cfg, options.n_envs, options.reps, bench.precision, true);
+  const Measured& main_run = bench.main_run;
+  const double gflop = bench.flops * 1e-9;
+  std::printf("\n  target_kl off (all %d epochs), median of %d:\n", cfg.n_epochs, options.reps);
+  std::printf("    iteration      %.3f s   (rollout forwards %.3f s, update %.3f s)\n", main_run.wall,
               main_run.rollout, main_run.update);
   std::printf("    thread CPU     %.3f s\n", main_run.cpu);
   std::printf("    GEMM work      %.1f GFLOP  ->  %.1f GFLOP/s (wall), %.1f GFLOP/s (CPU time)\n",
-              flops * 1e-9, flops * 1e-9 / med, flops * 1e-9 / main_run.cpu);
-  std::printf("    goal 0.8 s:    %s (needs %.0f GFLOP/s)\n", med <= 0.8 ? "met" : "NOT met",
-              flops * 1e-9 / 0.8);
+              gflop, gflop / main_run.wall, gflop / main_run.cpu);
+  std::printf("    goal 0.8 s:    %s (needs %.0f GFLOP/s)\n", main_run.wall <= 0.8 ? "met" : "NOT met",
+              gflop / 0.8);
+}
 
-  const int base_reps = std::min(o.reps, 3);
-  // One baseline: the same iteration in float32 with or without the own GEMM kernel.
-  auto baseline = [&](bool fast_gemm, const char* what, const char* winner) {
-    const Measured b = measure(cfg, o.n_envs, base_reps, rl::MatmulPrecision::Float32, fast_gemm);
-    std::printf("\n  baseline, same iteration with %s, median of %d:\n", what, base_reps);
-    std::printf("    iteration      %.3f s wall, %.3f s CPU -> %.1f GFLOP/s (CPU time)\n", b.wall,
-                b.cpu, flops * 1e-9 / b.cpu);
-    std::printf("    %s %.2fx faster (CPU time; %.2fx wall)\n", winner, b.cpu / main_run.cpu,
-                b.wall / med);
-  };
-  if (precision == rl::MatmulPrecision::BFloat16)
-    baseline(true, "float32 products (rl::sgemm)", "bf16 products are");
-  baseline(false, "Eigen's float32 GEMM only", "the measured configuration is");
+// One baseline: the same iteration in float32 with or without the own GEMM kernel.
+void print_float32_baseline(const PpoBench& bench, bool fast_gemm, const char* what, const char* winner) {
+  const Measured baseline =
+      measure(bench.cfg, bench.options.n_envs, bench.base_reps, rl::MatmulPrecision::Float32, fast_gemm);
+  std::printf("\n  baseline, same iteration with %s, median of %d:\n", what, bench.base_reps);
+  std::printf("    iteration      %.3f s wall, %.3f s CPU -> %.1f GFLOP/s (CPU time)\n", baseline.wall,
+              baseline.cpu, bench.flops * 1e-9 / baseline.cpu);
+  std::printf("    %s %.2fx faster (CPU time; %.2fx wall)\n", winner, baseline.cpu / bench.main_run.cpu,
+              baseline.wall / bench.main_run.wall);
+}
 
-  if (o.gru_hidden > 0) {
-    // The recurrent policy at the same sizes, target_kl off: the GRUs' products are small
-    // (gru_hidden x 6 and gru_hidden x gru_hidden per step), so they run in float32 with Eigen;
-    // the MLP heads use `precision` as above.
-    rl::Rng rng(2024);
-    rl::RecurrentActorCritic gru(6, 1, o.gru_hidden, cfg.actor_hidden, cfg.critic_hidden);
-    gru.init(rng);
-    gru.set_matmul_precision(precision);
-    rl::Adam adam = rl::make_adam(cfg);
-    run_recurrent_iteration(gru, adam, cfg, o.n_envs, rng);  // warm-up
-    std::vector<double> total, cpu, rollout, update;
-    for (int r = 0; r < base_reps; ++r) {
-      const IterationTimes t = run_recurrent_iteration(gru, adam, cfg, o.n_envs, rng);
-      total.push_back(t.total());
-      cpu.push_back(t.cpu);
-      rollout.push_back(t.rollout);
-      update.push_back(t.update);
-    }
-    std::printf("\n  recurrent policy (ppo.policy = \"gru\", GRU %d before each MLP; %d envs per minibatch), "
-                "target_kl off, median of %d:\n",
-                o.gru_hidden, rl::sequences_per_minibatch(cfg, o.n_envs), base_reps);
-    std::printf("    iteration      %.3f s wall, %.3f s CPU (rollout forwards %.3f s, update %.3f s)\n",
-                median(total), median(cpu), median(rollout), median(update));
-    std::printf("    vs the MLP     %.2fx its CPU time; parameters %lld (GRUs %lld)\n", median(cpu) / main_run.cpu,
-                static_cast<long long>(gru.num_params()),
-                static_cast<long long>(gru.actor_gru().num_params() + gru.critic_gru().num_params()));
+void print_float32_baselines(const PpoBench& bench) {
+  if (bench.precision == rl::MatmulPrecision::BFloat16)
+    print_float32_baseline(bench, true, "float32 products (rl::sgemm)", "bf16 products are");
+  print_float32_baseline(bench, false, "Eigen's float32 GEMM only", "the measured configuration is");
+}
+
+// The recurrent policy at the same sizes, target_kl off: the GRUs' products are small
+// (gru_hidden x 6 and gru_hidden x gru_hidden per step), so they run in float32 with Eigen;
+// the MLP heads use the measured precision.
+void time_recurrent_iteration(const PpoBench& bench) {
+  const BenchOptions& options = bench.options;
+  const rl::PpoConfig& cfg = bench.cfg;
+  rl::Rng rng(2024);
+  rl::RecurrentActorCritic gru(6, 1, options.gru_hidden, cfg.actor_hidden, cfg.critic_hidden);
+  gru.init(rng);
+  gru.set_matmul_precision(bench.precision);
+  rl::Adam adam = rl::make_adam(cfg);
+  run_recurrent_iteration(gru, adam, cfg, options.n_envs, rng);  // warm-up
+  const Measured times =
+      median_times(bench.base_reps, [&] { return run_recurrent_iteration(gru, adam, cfg, options.n_envs, rng); });
+  std::printf("\n  recurrent policy (ppo.policy = \"gru\", GRU %d before each MLP; %d envs per minibatch), "
+              "target_kl off, median of %d:\n",
+              options.gru_hidden, rl::sequences_per_minibatch(cfg, options.n_envs), bench.base_reps);
+  std::printf("    iteration      %.3f s wall, %.3f s CPU (rollout forwards %.3f s, update %.3f s)\n",
+              times.wall, times.cpu, times.rollout, times.update);
+  std::printf("    vs the MLP     %.2fx its CPU time; parameters %lld (GRUs %lld)\n", times.cpu / bench.main_run.cpu,
+              static_cast<long long>(gru.num_params()),
+              static_cast<long long>(gru.actor_gru().num_params() + gru.critic_gru().num_params()));
+}
+
+// The update with the actor's and the critic's passes side by side on two threads (as a
+// co-design run does on its rollout threads), against one thread, from the same state and
+// seeds: wall times (a thread's CPU time no longer covers the work) and whether the trained
+// parameters are the same to the bit. `make_model` gives a fresh model, `iterate` runs one
+// iteration of it (on the pool, or on one thread if none).
+template <class MakeModel, class Iterate>
+void compare_update_threads(const PpoBench& bench, MakeModel make_model, Iterate iterate, const char* what) {
+  const int reps = bench.base_reps;
+  auto on_one = make_model(), on_two = make_model();
+  rl::Adam adam_one = rl::make_adam(bench.cfg), adam_two = rl::make_adam(bench.cfg);
+  rl::ThreadPool pool(2);
+  rl::Rng warmup_one(99), warmup_two(99);
+  iterate(on_one, adam_one, warmup_one, nullptr);  // warm-up
+  iterate(on_two, adam_two, warmup_two, &pool);
+  std::vector<double> update_one, update_two;
+  for (int r = 0; r < reps; ++r) {
+    rl::Rng rng_one(100 + r), rng_two(100 + r);
+    update_one.push_back(iterate(on_one, adam_one, rng_one, nullptr).update);
+    update_two.push_back(iterate(on_two, adam_two, rng_two, &pool).update);
   }
+  const bool same =
+      on_one.actor().params() == on_two.actor().params() && on_one.critic().params() == on_two.critic().params();
+  std::printf("\n  %s: update with actor and critic side by side on 2 threads, median of %d (wall):\n", what,
+              reps);
+  std::printf("    update         %.3f s on 2 threads vs %.3f s on 1 -> %.2fx faster; parameters after %d "
+              "iterations %s\n",
+              median(update_two), median(update_one), median(update_one) / median(update_two), reps + 1,
+              same ? "identical to the bit" : "DIFFER (a bug)");
+}
 
-  if (o.update_threads) {
-    // The update with the actor's and the critic's passes side by side on two threads (as a
-    // co-design run does on its rollout threads), against one thread, from the same state and
-    // seeds: wall times (a thread's CPU time no longer covers the work) and whether the trained
-    // parameters are the same to the bit.
-    auto pair_run = [&](auto make_model, auto iterate, const char* what) {
-      auto one = make_model(), two = make_model();
-      rl::Adam adam_1 = rl::make_adam(cfg), adam_2 = rl::make_adam(cfg);
-      rl::ThreadPool pool(2);
-      rl::Rng w1(99), w2(99);
-      iterate(one, adam_1, w1, nullptr);  // warm-up
-      iterate(two, adam_2, w2, &pool);
-      std::vector<double> u1, u2;
-      for (int r = 0; r < base_reps; ++r) {
-        rl::Rng r1(100 + r), r2(100 + r);
-        u1.push_back(iterate(one, adam_1, r1, nullptr).update);
-        u2.push_back(iterate(two, adam_2, r2, &pool).update);
-      }
-      const bool same = one.actor().params() == two.actor().params() && one.critic().params() == two.critic().params();
-      std::printf("\n  %s: update with actor and critic side by side on 2 threads, median of %d (wall):\n", what,
-                  base_reps);
-      std::printf("    update         %.3f s on 2 threads vs %.3f s on 1 -> %.2fx faster; parameters after %d "
-                  "iterations %s\n",
-                  median(u2), median(u1), median(u1) / median(u2), base_reps + 1,
-                  same ? "identical to the bit" : "DIFFER (a bug)");
-    };
-    pair_run(
+void time_update_threads(const PpoBench& bench) {
+  const BenchOptions& options = bench.options;
+  const rl::PpoConfig& cfg = bench.cfg;
+  compare_update_threads(
+      bench,
+      [&] {
+        rl::Rng init(2024);
+        rl::ActorCritic model(6, 1, cfg.actor_hidden, cfg.critic_hidden);
+        model.init_orthogonal(init);
+        model.set_matmul_precision(bench.precision);
+        return model;
+      },
+      [&](rl::ActorCritic& model, rl::Adam& adam, rl::Rng& rng, rl::ThreadPool* pool) {
+        return run_iteration(model, adam, cfg, options.n_envs, rng, pool);
+      },
+      "MLP");
+  if (options.gru_hidden > 0)
+    compare_update_threads(
+        bench,
         [&] {
           rl::Rng init(2024);
-          rl::ActorCritic m(6, 1, cfg.actor_hidden, cfg.critic_hidden);
-          m.init_orthogonal(init);
-          m.set_matmul_precision(precision);
-          return m;
+          rl::RecurrentActorCritic model(6, 1, options.gru_hidden, cfg.actor_hidden, cfg.critic_hidden);
+          model.init(init);
+          model.set_matmul_precision(bench.precision);
+          return model;
         },
-        [&](rl::ActorCritic& m, rl::Adam& a, rl::Rng& r, rl::ThreadPool* p) {
-          return run_iteration(m, a, cfg, o.n_envs, r, p);
+        [&](rl::RecurrentActorCritic& model, rl::Adam& adam, rl::Rng& rng, rl::ThreadPool* pool) {
+          return run_recurrent_iteration(model, adam, cfg, options.n_envs, rng, pool);
         },
-        "MLP");
-    if (o.gru_hidden > 0)
-      pair_run(
-          [&] {
-            rl::Rng init(2024);
-            rl::RecurrentActorCritic m(6, 1, o.gru_hidden, cfg.actor_hidden, cfg.critic_hidden);
-            m.init(init);
-            m.set_matmul_precision(precision);
-            return m;
-          },
-          [&](rl::RecurrentActorCritic& m, rl::Adam& a, rl::Rng& r, rl::ThreadPool* p) {
-            return run_recurrent_iteration(m, a, cfg, o.n_envs, r, p);
-          },
-          "GRU");
-  }
+        "GRU");
+}
 
-  if (o.with_kl) {
-    cfg.target_kl = 0.02;
-    rl::Rng rng_kl(7);
-    rl::ActorCritic fresh(6, 1, cfg.actor_hidden, cfg.critic_hidden);
-    fresh.init_orthogonal(rng_kl);
-    fresh.set_matmul_precision(precision);
-    rl::Adam adam_kl = rl::make_adam(cfg);
-    const IterationTimes t = run_iteration(fresh, adam_kl, cfg, o.n_envs, rng_kl);
-    std::printf("\n  target_kl 0.02 (fresh policy, synthetic rewards), one run:\n");
-    std::printf("    iteration      %.3f s   (%d epochs started, %d minibatches applied%s)\n",
-                t.total(), t.stats.epochs_done, t.stats.minibatches_applied,
-                t.stats.early_stopped ? ", KL early stop" : "");
-  }
+// One iteration of a fresh policy with target_kl 0.02: how many epochs run before the KL limit trips.
+void time_kl_limited_iteration(const PpoBench& bench) {
+  rl::PpoConfig cfg = bench.cfg;
+  cfg.target_kl = 0.02;
+  rl::Rng rng_kl(7);
+  rl::ActorCritic fresh(6, 1, cfg.actor_hidden, cfg.critic_hidden);
+  fresh.init_orthogonal(rng_kl);
+  fresh.set_matmul_precision(bench.precision);
+  rl::Adam adam_kl = rl::make_adam(cfg);
+  const IterationTimes times = run_iteration(fresh, adam_kl, cfg, bench.options.n_envs, rng_kl);
+  std::printf("\n  target_kl 0.02 (fresh policy, synthetic rewards), one run:\n");
+  std::printf("    iteration      %.3f s   (%d epochs started, %d minibatches applied%s)\n",
+              times.total(), times.stats.epochs_done, times.stats.minibatches_applied,
+              times.stats.early_stopped ? ", KL early stop" : "");
+}
 
-  // Baselines on the dominant shape: a hidden layer GEMM of one minibatch (512 x 512 x 256).
-  const int m = o.hidden, k = o.hidden, n = cfg.batch_size;
-  Eigen::MatrixXf a = Eigen::MatrixXf::Random(m, k), b = Eigen::MatrixXf::Random(k, n);
-  Eigen::MatrixXf c(m, n);
-  const double gemm_flops = 2.0 * m * k * n;
-  std::vector<double> te, tn, tf;
+// Seconds of each timed product of one GEMM shape; sgemm and bf16 are empty where the build or
+// CPU lacks the kernel.
+struct GemmTimes {
+  std::vector<double> eigen, sgemm, bf16, naive;
+  bool naive_matches = true;  // the triple loop's product equals Eigen's (a check of the timing)
+};
+
+// Times C = A B for A rows x inner and B inner x cols of random values with Eigen, rl::sgemm,
+// rl::gemm_bf16 and the textbook loops.
+GemmTimes time_gemm_kernels(int rows, int inner, int cols) {
+  GemmTimes times;
+  Eigen::MatrixXf lhs = Eigen::MatrixXf::Random(rows, inner), rhs = Eigen::MatrixXf::Random(inner, cols);
+  Eigen::MatrixXf product(rows, cols);
   for (int r = 0; r < 5; ++r) {
     auto t0 = Clock::now();
-    c.noalias() = a * b;
-    te.push_back(seconds_since(t0));
+    product.noalias() = lhs * rhs;
+    times.eigen.push_back(seconds_since(t0));
   }
   rl::GemmWorkspace ws;
-  Eigen::MatrixXf cf(m, n);
+  Eigen::MatrixXf product_sgemm(rows, cols);
   for (int r = 0; r < (rl::fast_gemm_available() ? 5 : 0); ++r) {
     auto t0 = Clock::now();
-    rl::sgemm(false, false, m, n, k, a.data(), m, b.data(), k, cf.data(), m, ws);
-    tf.push_back(seconds_since(t0));
+    rl::sgemm(false, false, rows, cols, inner, lhs.data(), rows, rhs.data(), inner, product_sgemm.data(), rows, ws);
+    times.sgemm.push_back(seconds_since(t0));
   }
-  std::vector<double> tb16;
-  Eigen::MatrixXf cb(m, n);
+  Eigen::MatrixXf product_bf16(rows, cols);
   for (int r = 0; r < (rl::bf16_gemm_available() ? 5 : 0); ++r) {
     auto t0 = Clock::now();
-    rl::gemm_bf16(false, false, m, n, k, a.data(), m, b.data(), k, cb.data(), m, ws);
-    tb16.push_back(seconds_since(t0));
+    rl::gemm_bf16(false, false, rows, cols, inner, lhs.data(), rows, rhs.data(), inner, product_bf16.data(), rows, ws);
+    times.bf16.push_back(seconds_since(t0));
   }
-  const float check = c(0, 0);
+  const float check = product(0, 0);
   for (int r = 0; r < 3; ++r) {
     auto t0 = Clock::now();
-    naive_gemm(a, b, c);
-    tn.push_back(seconds_since(t0));
+    naive_gemm(lhs, rhs, product);
+    times.naive.push_back(seconds_since(t0));
   }
-  const double ge = gemm_flops / median(te) * 1e-9, gn = gemm_flops / median(tn) * 1e-9;
+  times.naive_matches = std::abs(product(0, 0) - check) < 1e-3f * (1 + std::abs(check));
+  return times;
+}
+
+// Baselines on the dominant shape, a hidden layer GEMM of one minibatch (512 x 512 x 256), beside
+// the core's measured peaks and what they leave as the least time of an iteration.
+void time_gemm_baselines(const PpoBench& bench) {
+  const int rows = bench.options.hidden, inner = bench.options.hidden, cols = bench.cfg.batch_size;
+  const double gemm_flops = 2.0 * rows * inner * cols;
+  const double gflop = bench.flops * 1e-9;
+  const GemmTimes times = time_gemm_kernels(rows, inner, cols);
+  const double eigen_rate = gemm_flops / median(times.eigen) * 1e-9;
+  const double naive_rate = gemm_flops / median(times.naive) * 1e-9;
   const double peak = peak_fma_gflops();
   const double peak16 = peak_bf16_gflops();
   std::printf("\n  ceiling: measured fp32 FMA peak of this core %.1f GFLOP/s -> an iteration "
               "needs >= %.2f s in float32\n",
-              peak, flops * 1e-9 / peak);
+              peak, gflop / peak);
   if (peak16 > 0)
     std::printf("           measured bf16 dot-product peak %.1f GFLOP/s -> >= %.2f s with bf16 "
                 "products\n",
-                peak16, flops * 1e-9 / peak16);
-  std::printf("\n  baseline, GEMM %d x %d x %d:\n", m, k, n);
+                peak16, gflop / peak16);
+  std::printf("\n  baseline, GEMM %d x %d x %d:\n", rows, inner, cols);
   std::printf("    Eigen          %.1f GFLOP/s (%.0f%% of peak; at this rate an iteration is "
               "%.2f s of pure GEMM)\n",
-              ge, 100 * ge / peak, flops * 1e-9 / ge);
-  if (!tf.empty()) {
-    const double gf = gemm_flops / median(tf) * 1e-9;
+              eigen_rate, 100 * eigen_rate / peak, gflop / eigen_rate);
+  if (!times.sgemm.empty()) {
+    const double sgemm_rate = gemm_flops / median(times.sgemm) * 1e-9;
     std::printf("    rl::sgemm      %.1f GFLOP/s (%.0f%% of peak; used for the large layers) -> "
                 "%.2fx Eigen\n",
-                gf, 100 * gf / peak, gf / ge);
+                sgemm_rate, 100 * sgemm_rate / peak, sgemm_rate / eigen_rate);
   }
-  if (!tb16.empty()) {
-    const double gb = gemm_flops / median(tb16) * 1e-9;
-    std::printf("    rl::gemm_bf16  %.1f GFLOP/s (%.0f%% of the bf16 peak) -> %.2fx Eigen\n", gb,
-                100 * gb / peak16, gb / ge);
+  if (!times.bf16.empty()) {
+    const double bf16_rate = gemm_flops / median(times.bf16) * 1e-9;
+    std::printf("    rl::gemm_bf16  %.1f GFLOP/s (%.0f%% of the bf16 peak) -> %.2fx Eigen\n", bf16_rate,
+                100 * bf16_rate / peak16, bf16_rate / eigen_rate);
   }
-  std::printf("    naive loops    %.1f GFLOP/s   -> Eigen is %.1fx faster%s\n", gn, ge / gn,
-              std::abs(c(0, 0) - check) < 1e-3f * (1 + std::abs(check)) ? "" : " (MISMATCH!)");
+  std::printf("    naive loops    %.1f GFLOP/s   -> Eigen is %.1fx faster%s\n", naive_rate, eigen_rate / naive_rate,
+              times.naive_matches ? "" : " (MISMATCH!)");
+}
 
-  const double f32 = minibatch_pass_seconds<float>(o.hidden, cfg.batch_size, 5);
-  const double f64 = minibatch_pass_seconds<double>(o.hidden, cfg.batch_size, 5);
-  std::printf("  baseline, one minibatch loss + gradient (both nets, batch %d):\n",
-              cfg.batch_size);
+void time_minibatch_precisions(const PpoBench& bench) {
+  const int batch = bench.cfg.batch_size;
+  const double f32 = minibatch_pass_seconds<float>(bench.options.hidden, batch, 5);
+  const double f64 = minibatch_pass_seconds<double>(bench.options.hidden, batch, 5);
+  std::printf("  baseline, one minibatch loss + gradient (both nets, batch %d):\n", batch);
   std::printf("    float32 %.2f ms, float64 %.2f ms  -> float32 is %.2fx faster\n", f32 * 1e3,
               f64 * 1e3, f64 / f32);
+}
+
+int run_bench(const BenchOptions& options) {
+  Eigen::setNbThreads(1);
+  if (options.precision == "bf16" && !rl::bf16_gemm_available()) {
+    std::fprintf(stderr, "codesign: error: bench ppo: --precision bf16 needs AVX-512 BF16, which "
+                         "this build/CPU does not have; allowed here: auto, float32\n");
+    return 2;
+  }
+  const rl::MatmulPrecision precision =
+      rl::resolve(value_of(rl::kMatmulChoiceNames, options.precision).value_or(rl::MatmulChoice::Auto));
+  // The flops and the measured iteration come from time_main_iteration.
+  PpoBench bench{options, bench_config(options), precision, std::min(options.reps, 3), 0.0, Measured{}};
+  print_header(bench);
+  time_main_iteration(bench);
+  print_float32_baselines(bench);
+  if (options.gru_hidden > 0) time_recurrent_iteration(bench);
+  if (options.update_threads) time_update_threads(bench);
+  if (options.with_kl) time_kl_limited_iteration(bench);
+  time_gemm_baselines(bench);
+  time_minibatch_precisions(bench);
   return 0;
 }
 

@@ -163,7 +163,7 @@ class MpiEnvPool final : public core::EnvPool, public core::RunAhead {
 // On rank 0, while ranks 1..ranks-1 are in serve_env_pool: the mean wall time of one exchange of a
 // step's shape with one rank — rank 0 sends `out_doubles` numbers, the rank answers `in_doubles`
 // (and, as after a step, a short second message) — over `repeats` rounds through every rank in
-// turn. For the scaling model (scaling_model.hpp); the ranks keep serving afterwards.
+// turn. For the scaling model (apps/bench/scaling_model.hpp); the ranks keep serving afterwards.
 double time_exchanges(int ranks, std::size_t out_doubles, std::size_t in_doubles, int repeats);
 
 // Ranks 1..: answers rank 0's calls with `local` (the environments of env_slice(n_envs, rank,

@@ -1,4 +1,4 @@
-#include "cluster/cost_spread.hpp"
+#include "bench/cost_spread.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,8 +10,8 @@
 #include <random>
 #include <stdexcept>
 
+#include "bench/scaling_model.hpp"
 #include "cluster/env_assignment.hpp"
-#include "cluster/scaling_model.hpp"
 
 namespace codesign::cluster {
 

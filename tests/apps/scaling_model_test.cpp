@@ -1,10 +1,10 @@
-// The scaling model of cluster/scaling_model.hpp against values worked out by hand.
+// The scaling model of apps/bench/scaling_model.hpp against values worked out by hand.
 #include <gtest/gtest.h>
 
 #include <stdexcept>
 #include <vector>
 
-#include "cluster/scaling_model.hpp"
+#include "bench/scaling_model.hpp"
 
 namespace {
 

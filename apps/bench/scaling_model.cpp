@@ -1,4 +1,4 @@
-#include "cluster/scaling_model.hpp"
+#include "bench/scaling_model.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-// How much the designs' different costs load the busiest rank (cluster/cost_spread.hpp): 1 when
+// How much the designs' different costs load the busiest rank (apps/bench/cost_spread.hpp): 1 when
 // every cost is the same, a hand-enumerated case for both splits, and bad input refused; the same
 // for the ranks' meeting at every decision (meeting_load_factor).
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "cluster/cost_spread.hpp"
+#include "bench/cost_spread.hpp"
 
 namespace {
 
