@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "cli_options.hpp"
-#include "codesign/nlopt_search.hpp"
+#include "core/nlopt_search.hpp"
 #include "commands.hpp"
 #include "run/refine_run.hpp"
 

@@ -2,7 +2,7 @@
 //
 // Measures, over the designs (all 110 by default), what the task's defaults rest on: the reference
 // range of the strain ε and of the zeroed strain ε − ε₀, and the best fixed base angle θ0 with its
-// return (codesign/design_survey.hpp says over which episodes). Writes DIR/survey.csv (one row per
+// return (core/design_survey.hpp says over which episodes). Writes DIR/survey.csv (one row per
 // design) and prints the suggested [task] strain_min / strain_max and a summary (run/survey.hpp).
 #include <memory>
 #include <string>

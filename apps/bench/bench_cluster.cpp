@@ -50,7 +50,7 @@
 #include "cluster/mpi_env_pool.hpp"
 #include "cluster/mpi_world.hpp"
 #include "cluster/rollout_messages.hpp"
-#include "codesign/outer_loop.hpp"
+#include "core/outer_loop.hpp"
 #include "commands.hpp"
 #include "minibatch_timing.hpp"
 #include "rl/recurrent_ppo.hpp"
@@ -227,7 +227,7 @@ void print_meetings(const std::vector<cluster::DecisionCosts>& samples, const cl
                 launch_threads, launch_threads, split.lockstep * rounds_split / (own.lockstep * rounds_one),
                 split.lockstep, split.run_ahead * rounds_split / (own.lockstep * rounds_one), split.run_ahead);
   }
-  // Which meeting a run of this config has under mpirun (MpiEnvPool::rollout, codesign/run_ahead.hpp).
+  // Which meeting a run of this config has under mpirun (MpiEnvPool::rollout, core/run_ahead.hpp).
   std::printf("  under mpirun this config's rollouts %s\n",
               whole_rollouts ? "run whole on each rank: the ranks meet at the iteration's end (the 'iteration's end' "
                                "columns)"

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "base/peak_memory.hpp"
-#include "codesign/outer_loop.hpp"
+#include "core/outer_loop.hpp"
 #include "run/run_config.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"

@@ -10,7 +10,7 @@
 // environment per round over an iteration (its settles and FEM steps, and what a round costs
 // besides: resets, observations, thread hand-offs; `bench cluster` measures it), s the
 // exchanges per iteration (one per decision and one start when the rollouts go step by step; one
-// when each rank runs its environments' whole rollout, codesign/run_ahead.hpp), x the cost of one
+// when each rank runs its environments' whole rollout, core/run_ahead.hpp), x the cost of one
 // exchange between rank 0 and one other rank (rank 0 talks to the ranks one after the other), and the parts that
 // run on rank 0 alone: u the PPO update, p the policy inference, d the distribution update.
 // F (collect_factor, 1 by default) is how much more the busiest rank carries because the designs

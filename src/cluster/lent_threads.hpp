@@ -1,7 +1,7 @@
 #pragma once
 // Ranks on one machine lend each other their threads at the end of a whole rollout.
 //
-// With whole rollouts (codesign/run_ahead.hpp) the ranks meet once per iteration, and a split fixed
+// With whole rollouts (core/run_ahead.hpp) the ranks meet once per iteration, and a split fixed
 // for the whole rollout cannot foresee what each environment's episodes will cost: the rank done
 // first idles until the last one is done (docs/journal/cluster.md, "Each design meshed once
 // across the ranks": about 1.6-2.3 % of two ranks' collection). Ranks that share a machine share its cores, so

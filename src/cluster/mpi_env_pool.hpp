@@ -36,8 +36,8 @@
 
 #include "cluster/env_assignment.hpp"
 #include "cluster/lent_threads.hpp"
-#include "codesign/env_pool.hpp"
-#include "codesign/run_ahead.hpp"
+#include "core/env_pool.hpp"
+#include "core/run_ahead.hpp"
 #include "rl/actor_critic.hpp"
 
 namespace codesign::cluster {

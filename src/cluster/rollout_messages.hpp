@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "codesign/run_ahead.hpp"
-#include "codesign/whisker_env.hpp"
+#include "core/run_ahead.hpp"
+#include "core/whisker_env.hpp"
 #include "rl/actor_critic.hpp"
 #include "rl/vec_env.hpp"
 

@@ -1,6 +1,6 @@
 #pragma once
 // The one rollout loop of the project (SB3's OnPolicyAlgorithm.collect_rollouts), shared by the
-// gym trainer (trainer.hpp) and the co-design's Algorithm 1 (codesign/outer_loop.hpp), and the
+// gym trainer (trainer.hpp) and the co-design's Algorithm 1 (core/outer_loop.hpp), and the
 // policy seam it talks to.
 //
 // RolloutPolicy is what collection needs of a policy: sampled actions with their values and

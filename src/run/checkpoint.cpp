@@ -12,7 +12,7 @@
 
 namespace codesign::run {
 
-using namespace core;  // this file works on the co-design core's types (src/codesign)
+using namespace core;  // this file works on the co-design core's types (src/core)
 
 namespace {
 

@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "codesign/outer_loop.hpp"
+#include "core/outer_loop.hpp"
 
 namespace codesign::run {
 

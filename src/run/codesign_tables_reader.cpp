@@ -6,13 +6,13 @@
 #include <string>
 #include <vector>
 
-#include "codesign/config_tables.hpp"
+#include "core/config_tables.hpp"
 #include "fem/design.hpp"
 #include "io/config/table_keys.hpp"
 
 namespace codesign::run {
 
-using namespace core;  // this file works on the co-design core's types (src/codesign)
+using namespace core;  // this file works on the co-design core's types (src/core)
 
 TaskConfig read_task_config(io::TableReader& root) {
   TaskConfig c;

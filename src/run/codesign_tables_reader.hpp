@@ -1,9 +1,9 @@
 #pragma once
 // Reads the [task] and [codesign] tables of a run config into the co-design value types.
-#include "codesign/codesign_config.hpp"
-#include "codesign/design_sweep.hpp"
-#include "codesign/pid_tuning.hpp"
-#include "codesign/task_config.hpp"
+#include "core/codesign_config.hpp"
+#include "core/design_sweep.hpp"
+#include "core/pid_tuning.hpp"
+#include "core/task_config.hpp"
 #include "io/config/toml_reader.hpp"
 
 namespace codesign::run {

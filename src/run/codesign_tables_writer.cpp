@@ -2,14 +2,14 @@
 
 #include <sstream>
 
-#include "codesign/outer_loop.hpp"
-#include "codesign/config_tables.hpp"
+#include "core/outer_loop.hpp"
+#include "core/config_tables.hpp"
 #include "io/config/config_writer.hpp"
 #include "io/config/table_keys.hpp"
 
 namespace codesign::run {
 
-using namespace core;  // this file works on the co-design core's types (src/codesign)
+using namespace core;  // this file works on the co-design core's types (src/core)
 
 void write_task_table(std::ostream& out, const TaskConfig& task) {
   TaskConfig c = task;  // the descriptions take the fields by reference

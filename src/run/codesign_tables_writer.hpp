@@ -4,8 +4,8 @@
 #include <ostream>
 #include <string>
 
-#include "codesign/codesign_config.hpp"
-#include "codesign/task_config.hpp"
+#include "core/codesign_config.hpp"
+#include "core/task_config.hpp"
 #include "fem/simulator.hpp"
 #include "fem/whisker_model.hpp"
 

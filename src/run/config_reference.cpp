@@ -2,7 +2,7 @@
 
 #include <sstream>
 
-#include "codesign/config_tables.hpp"
+#include "core/config_tables.hpp"
 #include "fem/config_tables.hpp"
 #include "io/config/fem_config.hpp"
 #include "io/config/gym_config.hpp"
@@ -107,7 +107,7 @@ std::string config_reference_markdown() {
   out << "# Config keys\n\n"
          "Every key of every table, printed by `codesign config-keys` from the one description of each\n"
          "table in the code (`describe_*_table` in `src/fem/config_tables.hpp`, `src/rl/ppo.hpp`,\n"
-         "`src/codesign/config_tables.hpp`, `src/io/config/` and `src/run/run_config.hpp`); a test checks that this\n"
+         "`src/core/config_tables.hpp`, `src/io/config/` and `src/run/run_config.hpp`); a test checks that this\n"
          "page is what the code prints. How files are read, layered and checked: "
          "[configuring.md](configuring.md).\n\n"
          "Every key is optional and takes its default when absent. Ranges are inclusive. A co-design run\n"

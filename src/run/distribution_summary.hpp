@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "codesign/design_distribution.hpp"
+#include "core/design_distribution.hpp"
 
 namespace codesign::run {
 

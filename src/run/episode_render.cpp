@@ -11,8 +11,8 @@
 
 #include "base/errors.hpp"
 #include "base/file_write.hpp"
-#include "codesign/open_loop_scenario.hpp"
-#include "codesign/policy_controller.hpp"
+#include "core/open_loop_scenario.hpp"
+#include "core/policy_controller.hpp"
 #include "fem/design.hpp"
 #include "fem/mesh_ops.hpp"
 #include "io/formats/atomic_file.hpp"
@@ -25,7 +25,7 @@
 
 namespace codesign::run {
 
-using namespace core;  // this file works on the co-design core's types (src/codesign)
+using namespace core;  // this file works on the co-design core's types (src/core)
 
 namespace fs = std::filesystem;
 

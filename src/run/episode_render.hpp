@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "codesign/evaluation.hpp"
-#include "codesign/simulator_pool.hpp"
-#include "codesign/task_config.hpp"
-#include "codesign/whisker_env.hpp"
+#include "core/evaluation.hpp"
+#include "core/simulator_pool.hpp"
+#include "core/task_config.hpp"
+#include "core/whisker_env.hpp"
 #include "fem/model.hpp"
 #include "fem/simulator.hpp"
 #include "io/config/fem_config.hpp"

@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "base/errors.hpp"
-#include "codesign/design_distribution.hpp"
+#include "core/design_distribution.hpp"
 #include "fem/design.hpp"
 #include "io/formats/atomic_file.hpp"
 #include "io/formats/csv_table.hpp"
@@ -21,7 +21,7 @@
 
 namespace codesign::run {
 
-using namespace core;  // this file works on the co-design core's types (src/codesign)
+using namespace core;  // this file works on the co-design core's types (src/core)
 
 namespace fs = std::filesystem;
 

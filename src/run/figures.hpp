@@ -31,8 +31,8 @@
 #include <utility>
 #include <vector>
 
-#include "codesign/codesign_config.hpp"
-#include "codesign/task_config.hpp"
+#include "core/codesign_config.hpp"
+#include "core/task_config.hpp"
 #include "io/formats/gnuplot.hpp"
 #include "run/run_folder.hpp"
 

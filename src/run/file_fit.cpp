@@ -1,8 +1,8 @@
 #include "run/file_fit.hpp"
 
 #include "base/errors.hpp"
-#include "codesign/outer_loop.hpp"
-#include "codesign/whisker_env.hpp"
+#include "core/outer_loop.hpp"
+#include "core/whisker_env.hpp"
 #include "rl/actor_critic.hpp"
 #include "rl/layer_sizes.hpp"
 #include "rl/recurrent_actor_critic.hpp"
@@ -10,7 +10,7 @@
 
 namespace codesign::run {
 
-using namespace core;  // this file works on the co-design core's types (src/codesign)
+using namespace core;  // this file works on the co-design core's types (src/core)
 
 std::string sizes_text(const std::vector<int>& v) {
   std::string s = "[";

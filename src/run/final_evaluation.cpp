@@ -1,6 +1,6 @@
 #include "run/final_evaluation.hpp"
 
-#include "codesign/policy_controller.hpp"
+#include "core/policy_controller.hpp"
 #include "run/run_folder.hpp"
 #include "run/stop_signals.hpp"
 

@@ -11,11 +11,11 @@
 #include <memory>
 #include <optional>
 
-#include "codesign/design_distribution.hpp"
-#include "codesign/design_sweep.hpp"
-#include "codesign/evaluation.hpp"
-#include "codesign/outer_loop.hpp"
-#include "codesign/simulator_pool.hpp"
+#include "core/design_distribution.hpp"
+#include "core/design_sweep.hpp"
+#include "core/evaluation.hpp"
+#include "core/outer_loop.hpp"
+#include "core/simulator_pool.hpp"
 #include "rl/policy_file.hpp"
 #include "run/run_telemetry.hpp"
 

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 
-#include "codesign/outer_loop.hpp"
+#include "core/outer_loop.hpp"
 #include "run/final_evaluation.hpp"
 #include "run/run_folder.hpp"
 

@@ -20,8 +20,8 @@
 #include <utility>
 #include <vector>
 
-#include "codesign/design_sweep.hpp"
-#include "codesign/pid_tuning.hpp"
+#include "core/design_sweep.hpp"
+#include "core/pid_tuning.hpp"
 #include "run/run_config.hpp"
 
 namespace codesign::run {

@@ -5,9 +5,9 @@
 // always prints.
 #include <cstdint>
 
-#include "codesign/codesign_config.hpp"
-#include "codesign/design_distribution.hpp"
-#include "codesign/outer_loop.hpp"
+#include "core/codesign_config.hpp"
+#include "core/design_distribution.hpp"
+#include "core/outer_loop.hpp"
 
 namespace codesign::run {
 

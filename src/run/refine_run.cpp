@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "base/errors.hpp"
-#include "codesign/policy_controller.hpp"
-#include "codesign/refine.hpp"
+#include "core/policy_controller.hpp"
+#include "core/refine.hpp"
 #include "io/formats/run_lock.hpp"
 #include "rl/policy_file.hpp"
 #include "run/folder_lock.hpp"

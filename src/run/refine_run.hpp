@@ -7,7 +7,7 @@
 // was. Holds the run folder's lock meanwhile.
 #include <string>
 
-#include "codesign/nlopt_search.hpp"
+#include "core/nlopt_search.hpp"
 
 namespace codesign::run {
 

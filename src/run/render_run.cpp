@@ -8,8 +8,8 @@
 #include <numbers>
 
 #include "base/errors.hpp"
-#include "codesign/evaluation.hpp"
-#include "codesign/policy_controller.hpp"
+#include "core/evaluation.hpp"
+#include "core/policy_controller.hpp"
 #include "fem/design.hpp"
 #include "io/formats/run_lock.hpp"
 #include "rl/policy_file.hpp"

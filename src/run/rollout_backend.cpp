@@ -7,7 +7,7 @@
 #include "base/errors.hpp"
 #include "cluster/mpi_env_pool.hpp"
 #include "cluster/mpi_world.hpp"
-#include "codesign/outer_loop.hpp"
+#include "core/outer_loop.hpp"
 
 namespace codesign::run {
 

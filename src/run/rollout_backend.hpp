@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "codesign/env_pool.hpp"
-#include "codesign/simulator_pool.hpp"
+#include "core/env_pool.hpp"
+#include "core/simulator_pool.hpp"
 #include "run/run_settings.hpp"
 
 namespace codesign::run {

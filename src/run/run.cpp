@@ -9,7 +9,7 @@
 #include <string>
 
 #include "base/errors.hpp"
-#include "codesign/failure_count.hpp"
+#include "core/failure_count.hpp"
 #include "io/formats/run_lock.hpp"
 #include "rl/policy_file.hpp"
 #include "run/checkpoint.hpp"

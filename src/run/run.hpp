@@ -32,7 +32,7 @@
 #include <string>
 #include <vector>
 
-#include "codesign/outer_loop.hpp"
+#include "core/outer_loop.hpp"
 #include "fem/simulator.hpp"
 #include "fem/whisker_model.hpp"
 #include "run/folder_lock.hpp"

@@ -7,7 +7,7 @@
 
 namespace codesign::run {
 
-using namespace core;  // this file works on the co-design core's types (src/codesign)
+using namespace core;  // this file works on the co-design core's types (src/core)
 
 RunConfig read_run_config(const std::string& config_path) {
   io::TableReader root = config_path.empty() ? io::TableReader::from_string("", "(defaults)")

@@ -7,10 +7,10 @@
 #include <memory>
 #include <string>
 
-#include "codesign/codesign_config.hpp"
-#include "codesign/design_sweep.hpp"
-#include "codesign/pid_tuning.hpp"
-#include "codesign/task_config.hpp"
+#include "core/codesign_config.hpp"
+#include "core/design_sweep.hpp"
+#include "core/pid_tuning.hpp"
+#include "core/task_config.hpp"
 #include "fem/simulator.hpp"
 #include "fem/whisker_model.hpp"
 #include "io/config/fem_config.hpp"

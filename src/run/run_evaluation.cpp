@@ -14,9 +14,9 @@
 #include "base/duration_text.hpp"
 #include "base/errors.hpp"
 #include "base/seconds_since.hpp"
-#include "codesign/evaluation.hpp"
-#include "codesign/outer_loop.hpp"
-#include "codesign/policy_controller.hpp"
+#include "core/evaluation.hpp"
+#include "core/outer_loop.hpp"
+#include "core/policy_controller.hpp"
 #include "fem/design.hpp"
 #include "io/formats/atomic_file.hpp"
 #include "io/formats/csv_log.hpp"
@@ -30,7 +30,7 @@
 
 namespace codesign::run {
 
-using namespace core;  // this file works on the co-design core's types (src/codesign)
+using namespace core;  // this file works on the co-design core's types (src/core)
 
 namespace {
 

@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "codesign/evaluation.hpp"
-#include "codesign/force_estimator.hpp"
-#include "codesign/refine.hpp"
-#include "codesign/whisker_env.hpp"
+#include "core/evaluation.hpp"
+#include "core/force_estimator.hpp"
+#include "core/refine.hpp"
+#include "core/whisker_env.hpp"
 
 namespace codesign::run {
 

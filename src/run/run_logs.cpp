@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "base/errors.hpp"
-#include "codesign/failure_count.hpp"
+#include "core/failure_count.hpp"
 #include "fem/design.hpp"
 #include "run/run_folder.hpp"
 

@@ -8,8 +8,8 @@
 #include <memory>
 #include <string>
 
-#include "codesign/design_distribution.hpp"
-#include "codesign/outer_loop.hpp"
+#include "core/design_distribution.hpp"
+#include "core/outer_loop.hpp"
 #include "io/formats/csv_log.hpp"
 #include "run/distribution_summary.hpp"
 

@@ -3,7 +3,7 @@
 // read from a run config. Shared by the run (run.hpp), its rollout backends and its evaluation.
 #include <string>
 
-#include "codesign/outer_loop.hpp"
+#include "core/outer_loop.hpp"
 #include "fem/simulator.hpp"
 #include "fem/whisker_model.hpp"
 #include "run/run_config.hpp"

@@ -11,8 +11,8 @@
 #include <memory>
 #include <string>
 
-#include "codesign/evaluation.hpp"
-#include "codesign/outer_loop.hpp"
+#include "core/evaluation.hpp"
+#include "core/outer_loop.hpp"
 #include "io/telemetry/telemetry.hpp"
 #include "run/distribution_summary.hpp"
 

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "codesign/open_loop_scenario.hpp"
+#include "core/open_loop_scenario.hpp"
 #include "fem/whisker_model.hpp"
 #include "io/formats/csv_writer.hpp"
 #include "io/formats/vtk.hpp"

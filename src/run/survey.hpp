@@ -5,7 +5,7 @@
 // each side), and the best fixed-θ returns.
 #include <string>
 
-#include "codesign/design_survey.hpp"
+#include "core/design_survey.hpp"
 #include "run/run_config.hpp"
 
 namespace codesign::run {

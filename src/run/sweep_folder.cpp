@@ -22,7 +22,7 @@
 
 namespace codesign::run {
 
-using namespace core;  // this file works on the co-design core's sweep types (src/codesign)
+using namespace core;  // this file works on the co-design core's sweep types (src/core)
 
 namespace {
 

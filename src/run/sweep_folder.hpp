@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "codesign/design_sweep.hpp"
-#include "codesign/pid_tuning.hpp"
-#include "codesign/simulator_pool.hpp"
-#include "codesign/task_config.hpp"
+#include "core/design_sweep.hpp"
+#include "core/pid_tuning.hpp"
+#include "core/simulator_pool.hpp"
+#include "core/task_config.hpp"
 
 namespace codesign::run {
 

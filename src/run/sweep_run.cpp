@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "base/duration_text.hpp"
-#include "codesign/design_sweep.hpp"
+#include "core/design_sweep.hpp"
 #include "run/sweep_folder.hpp"
 #include "io/formats/gnuplot.hpp"
 

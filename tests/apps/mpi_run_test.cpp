@@ -74,7 +74,7 @@ TEST(MpiRun, TwoAndThreeRanksWriteTheRunFolderOfOneProcess) {
   // 4 environments of 2 decisions, 12 iterations through every phase of Algorithm 2, a checkpoint
   // every 2 iterations: short, but every call of the rollout interface crosses the ranks. With the
   // feed-forward policy and no observation statistics each rank runs its environments' whole
-  // rollouts (codesign/run_ahead.hpp); with observation statistics the rollouts go step by step
+  // rollouts (core/run_ahead.hpp); with observation statistics the rollouts go step by step
   // across the ranks. Either way the run folder is the one-process run's.
   for (const bool statistics : {false, true}) {
     codesign::test::TinyRun t = codesign::test::TinyRun::minimal();

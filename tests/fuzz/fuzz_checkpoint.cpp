@@ -6,7 +6,7 @@
 #include <cstring>
 
 #include "base/errors.hpp"
-#include "codesign/outer_loop.hpp"
+#include "core/outer_loop.hpp"
 #include "fuzz_common.hpp"
 #include "rl/adam.hpp"
 #include "rl/rng.hpp"

@@ -42,7 +42,7 @@ TEST(InferenceCache, ReusedCacheMatchesFreshCallsAndFollowsWeightChanges) {
   }
 }
 
-// Whole rollouts on MPI ranks (codesign/run_ahead.hpp): an MPI rank runs its environments' rollouts on the ψ-wide
+// Whole rollouts on MPI ranks (core/run_ahead.hpp): an MPI rank runs its environments' rollouts on the ψ-wide
 // batch with its own columns at their places and zeros elsewhere. That gives the one-process
 // numbers if a column's action, value and log-probability depend on no other column's values:
 // shown here for every kernel MlpT can take (blocked GEMMs in float32 and bf16 where the CPU has

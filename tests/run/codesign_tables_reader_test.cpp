@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "base/errors.hpp"
-#include "codesign/nlopt_search.hpp"
+#include "core/nlopt_search.hpp"
 #include "run/codesign_tables_reader.hpp"
 
 namespace codesign::run {

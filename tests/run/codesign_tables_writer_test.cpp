@@ -9,7 +9,7 @@
 
 #include "run/codesign_tables_reader.hpp"
 #include "run/codesign_tables_writer.hpp"
-#include "codesign/outer_loop.hpp"
+#include "core/outer_loop.hpp"
 #include "test_files.hpp"
 #include "io/config/config_writer.hpp"
 #include "io/config/fem_config.hpp"

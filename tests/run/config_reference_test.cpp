@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "codesign/config_tables.hpp"
+#include "core/config_tables.hpp"
 #include "io/config/config_writer.hpp"
 #include "io/config/fem_config.hpp"
 #include "io/config/gym_config.hpp"

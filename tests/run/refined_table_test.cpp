@@ -2,7 +2,7 @@
 // an earlier [refined] table replaced (idempotent), readable as TOML.
 #include <gtest/gtest.h>
 
-#include "codesign/refine.hpp"
+#include "core/refine.hpp"
 #include "io/config/toml_reader.hpp"
 #include "run/run_folder.hpp"
 

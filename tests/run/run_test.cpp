@@ -15,8 +15,8 @@
 
 #include "base/errors.hpp"
 #include "run/checkpoint.hpp"
-#include "codesign/design_sweep.hpp"
-#include "codesign/policy_controller.hpp"
+#include "core/design_sweep.hpp"
+#include "core/policy_controller.hpp"
 #include "run/run.hpp"
 #include "test_files.hpp"
 #include "io/formats/csv_table.hpp"

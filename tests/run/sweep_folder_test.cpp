@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "base/errors.hpp"
-#include "codesign/design_sweep.hpp"
+#include "core/design_sweep.hpp"
 #include "run/sweep_folder.hpp"
 #include "test_files.hpp"
 

@@ -1,5 +1,5 @@
 #pragma once
-// Files for the tests of several folders (tests/codesign, tests/run): a fresh folder under the test
+// Files for the tests of several folders (tests/core, tests/run): a fresh folder under the test
 // temp dir and a file's bytes. tests/support/ is on every test executable's include path.
 #include <unistd.h>
 

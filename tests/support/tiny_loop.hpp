@@ -1,10 +1,10 @@
 #pragma once
-// A co-design loop small enough for unit tests (tests/codesign and, through test_setup.hpp's
+// A co-design loop small enough for unit tests (tests/core and, through test_setup.hpp's
 // tiny_run, tests/run): 4 environments, 5 decisions per episode, small networks, all three phases
 // within 6 iterations. Only the co-design core's types: the simulator set-up and the loop config.
 #include <cstdint>
 
-#include "codesign/outer_loop.hpp"
+#include "core/outer_loop.hpp"
 #include "fem/simulator.hpp"
 #include "fem/whisker_model.hpp"
 #include "rl/ppo.hpp"
