@@ -12,8 +12,14 @@ std::vector<double> pack_setups(const std::vector<core::EpisodeSetup>& setups, s
   v.reserve(count * kSetupFields);
   for (std::size_t i = first; i < first + count; ++i) {
     const core::EpisodeSetup& e = setups[i];
+    const core::PhysicsDraw& d = e.physics;
     v.insert(v.end(), {static_cast<double>(e.design), e.p1_kPa, e.p2_kPa, e.plate_phase_rad, e.theta0_rad,
-                       static_cast<double>(static_cast<int>(e.fault))});
+                       static_cast<double>(static_cast<int>(e.fault)), d.youngs_scale, d.fibre_scale,
+                       d.damping_scale, d.mass_scale, d.plate_amplitude_scale, d.plate_frequency_scale,
+                       d.plate_height_offset_mm, d.pressure_scale_1, d.pressure_scale_2, d.strain_gain,
+                       d.strain_offset, d.strain_noise, d.encoder_noise_rad, d.actuation_delay ? 1.0 : 0.0,
+                       // the 64-bit noise seed in two exact 32-bit halves
+                       static_cast<double>(d.noise_seed >> 32), static_cast<double>(d.noise_seed & 0xFFFFFFFFULL)});
   }
   return v;
 }
@@ -35,6 +41,18 @@ std::vector<core::EpisodeSetup> unpack_setups(const std::vector<double>& v) {
     out[i].theta0_rad = f[4];
     out[i].fault = static_cast<core::Fault>(
         integer_in(f[5], 0, static_cast<int>(core::kFaultNames.size()) - 1, "a fault"));
+    core::PhysicsDraw& d = out[i].physics;
+    d.youngs_scale = f[6], d.fibre_scale = f[7], d.damping_scale = f[8], d.mass_scale = f[9];
+    d.plate_amplitude_scale = f[10], d.plate_frequency_scale = f[11], d.plate_height_offset_mm = f[12];
+    d.pressure_scale_1 = f[13], d.pressure_scale_2 = f[14], d.strain_gain = f[15], d.strain_offset = f[16];
+    d.strain_noise = f[17], d.encoder_noise_rad = f[18];
+    d.actuation_delay = integer_in(f[19], 0, 1, "the actuation delay flag") == 1;
+    const auto half = [&](double x) {
+      if (!(x >= 0.0 && x <= 4294967295.0) || std::floor(x) != x)
+        throw std::invalid_argument("unpack_setups: a noise seed half is not a 32-bit integer");
+      return static_cast<std::uint64_t>(x);
+    };
+    d.noise_seed = half(f[20]) << 32 | half(f[21]);
   }
   return out;
 }

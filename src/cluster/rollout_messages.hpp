@@ -14,7 +14,8 @@
 
 namespace codesign::cluster {
 
-inline constexpr std::size_t kSetupFields = 6;  // design, p1, p2, plate phase, theta0, fault
+// design, p1, p2, plate phase, theta0, fault, then the physics draw (16 numbers)
+inline constexpr std::size_t kSetupFields = 22;
 inline constexpr std::size_t kStepFields = 5;   // reward, terminated, truncated, in-band count, has terminal obs
 
 // setups[first, first + count) as count · kSetupFields numbers.

@@ -122,7 +122,8 @@ std::vector<DesignSample> OuterLoop::sample_designs(int k, std::vector<EpisodeSe
     const double u = design_rng_.uniform();
     const double phase = c.random_plate_phase ? 2.0 * std::numbers::pi * u : c.plate_phase_rad;
     setups.push_back({d.design, d.pressures_kPa[0], d.pressures_kPa[1], phase, 0.0,
-                      config_.task.faults.fault_for(k, i, envs_->size())});
+                      config_.task.faults.fault_for(k, i, envs_->size()),
+                      draw_physics(config_.task.randomize, c.seed, k, i)});
     samples.push_back(d);
   }
   return samples;

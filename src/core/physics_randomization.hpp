@@ -13,6 +13,8 @@
 #include <cstdint>
 
 #include "base/config_keys.hpp"
+#include "fem/model_scaling.hpp"
+#include "fem/scene.hpp"
 
 namespace codesign::core {
 
@@ -56,10 +58,27 @@ struct PhysicsDraw {
 
   // Whether the body or scene differs from the nominal one (a different simulation), as opposed
   // to the sensors and the actuation only.
-  bool changes_simulation() const {
-    return youngs_scale != 1.0 || fibre_scale != 1.0 || damping_scale != 1.0 || mass_scale != 1.0 ||
-           plate_amplitude_scale != 1.0 || plate_frequency_scale != 1.0 || plate_height_offset_mm != 0.0 ||
-           pressure_scale_1 != 1.0 || pressure_scale_2 != 1.0;
+  bool changes_simulation() const { return simulation_part() != PhysicsDraw{}; }
+  // The draw with the sensors and the actuation nominal: what the simulation depends on (the key
+  // of the environment's caches of ε₀ and of the settled state).
+  PhysicsDraw simulation_part() const {
+    PhysicsDraw d;
+    d.youngs_scale = youngs_scale, d.fibre_scale = fibre_scale, d.damping_scale = damping_scale;
+    d.mass_scale = mass_scale, d.plate_amplitude_scale = plate_amplitude_scale;
+    d.plate_frequency_scale = plate_frequency_scale, d.plate_height_offset_mm = plate_height_offset_mm;
+    d.pressure_scale_1 = pressure_scale_1, d.pressure_scale_2 = pressure_scale_2;
+    return d;
+  }
+  fem::BodyScale body() const { return {youngs_scale, mass_scale, damping_scale, fibre_scale}; }
+  // The scene of this draw around the nominal one.
+  fem::SceneConfig scene(fem::SceneConfig nominal) const {
+    nominal.plate_amplitude_mm *= plate_amplitude_scale;
+    nominal.plate_frequency_Hz *= plate_frequency_scale;
+    nominal.preload_mm += plate_height_offset_mm;
+    return nominal;
+  }
+  bool changes_scene() const {
+    return plate_amplitude_scale != 1.0 || plate_frequency_scale != 1.0 || plate_height_offset_mm != 0.0;
   }
 };
 

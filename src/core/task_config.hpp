@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "base/enum_names.hpp"
+#include "core/physics_randomization.hpp"
 
 namespace codesign::core {
 
@@ -100,6 +101,9 @@ struct TaskConfig {
   double pressure_max_kPa = 20.0;
   // [faults]: numerical failure injection for tests (above); off by default.
   FaultConfig faults;
+  // [randomize]: physical uncertainty, drawn per episode (core/physics_randomization.hpp); off by
+  // default.
+  RandomizeConfig randomize;
 };
 
 }  // namespace codesign::core

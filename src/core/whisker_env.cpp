@@ -14,6 +14,9 @@ namespace codesign::core {
 namespace {
 
 // x ∈ [lo, hi] → [−1, 1], clipped to ±kObservationClip.
+// The pressure a chamber holds when the policy asks for p: p (1 + e) under a drawn error.
+double actual_kPa(double p, double scale) { return scale == 1.0 ? p : p * scale; }
+
 double scaled(double x, double lo, double hi) {
   const double s = 2.0 * (x - lo) / (hi - lo) - 1.0;
   return std::clamp(s, -kObservationClip, kObservationClip);
@@ -85,8 +88,54 @@ WhiskerEnv::WhiskerEnv(std::shared_ptr<SimulatorPool> pool, const TaskConfig& ta
   history_actions_ = Eigen::VectorXd::Zero(task_.history);
 }
 
-WhiskerEnv::~WhiskerEnv() {
-  if (sim_) pool_->release(sim_design_, std::move(sim_));
+WhiskerEnv::~WhiskerEnv() { give_back_simulator(); }
+
+PhysicsDraw WhiskerEnv::simulator_draw() const {
+  PhysicsDraw d = setup_.physics.simulation_part();
+  d.pressure_scale_1 = d.pressure_scale_2 = 1.0;  // set on the simulator, not built into it
+  return d;
+}
+
+void WhiskerEnv::give_back_simulator() {
+  if (!sim_) return;
+  if (sim_draw_ == PhysicsDraw{}) pool_->release(sim_design_, std::move(sim_));
+  sim_.reset();
+}
+
+void WhiskerEnv::take_simulator() {
+  const PhysicsDraw draw = simulator_draw();
+  if (sim_ && sim_design_ == setup_.design && sim_draw_ == draw) return;
+  give_back_simulator();
+  if (draw == PhysicsDraw{}) {
+    sim_ = pool_->acquire(setup_.design);
+  } else {
+    const std::shared_ptr<const fem::Model> nominal = pool_->model(setup_.design);
+    sim_ = std::make_unique<fem::Simulator>(draw.body().nominal() ? nominal : fem::scaled_model(*nominal, draw.body()),
+                                            draw.scene(pool_->scene()), pool_->solver());
+  }
+  sim_design_ = setup_.design;
+  sim_draw_ = draw;
+  settled_setup_.reset();
+}
+
+double WhiskerEnv::tared_zero() const {
+  const PhysicsDraw& d = setup_.physics;
+  double z = strain_zero_;
+  if (d.strain_gain != 1.0) z *= d.strain_gain;
+  if (d.strain_offset != 0.0) z += d.strain_offset;
+  return z;
+}
+
+void WhiskerEnv::take_readings() {
+  const fem::Sensors s = sim_->sensors();
+  const PhysicsDraw& d = setup_.physics;
+  // Nominal fields leave the true values untouched, to the bit.
+  observed_strain_ = s.axial_strain;
+  if (d.strain_gain != 1.0) observed_strain_ *= d.strain_gain;
+  if (d.strain_offset != 0.0) observed_strain_ += d.strain_offset;
+  if (d.strain_noise > 0.0) observed_strain_ += d.strain_noise * noise_rng_.normal();
+  observed_theta_ = s.theta_rad;
+  if (d.encoder_noise_rad > 0.0) observed_theta_ += d.encoder_noise_rad * noise_rng_.normal();
 }
 
 void WhiskerEnv::set_episode(const EpisodeSetup& setup) {
@@ -99,13 +148,10 @@ void WhiskerEnv::set_episode(const EpisodeSetup& setup) {
 int WhiskerEnv::decisions_per_episode() const { return task_.episode_steps / task_.action_hold_steps; }
 
 Eigen::VectorXd WhiskerEnv::reset(std::optional<std::uint64_t> /*seed*/) {
-  if (sim_design_ != setup_.design) {
-    if (sim_) pool_->release(sim_design_, std::move(sim_));
-    sim_ = pool_->acquire(setup_.design);
-    sim_design_ = setup_.design;
-    settled_setup_.reset();
-  }
+  take_simulator();
   decision_ = 0;
+  pending_dtheta_ = 0.0;
+  noise_rng_ = rl::Rng(setup_.physics.noise_seed);
   episode_fault_ = std::exchange(fault_, Fault::None);
   in_band_ = 0;
   last_dtheta_ = 0.0;
@@ -119,7 +165,8 @@ Eigen::VectorXd WhiskerEnv::reset(std::optional<std::uint64_t> /*seed*/) {
     r = update_strain_zero();
     if (r.ok()) {
       sim_->reset();
-      sim_->set_pressures_kPa(setup_.p1_kPa, setup_.p2_kPa);
+      sim_->set_pressures_kPa(actual_kPa(setup_.p1_kPa, setup_.physics.pressure_scale_1),
+                              actual_kPa(setup_.p2_kPa, setup_.physics.pressure_scale_2));
       sim_->set_plate_phase(setup_.plate_phase_rad);
       if (setup_.theta0_rad != 0.0) sim_->set_base_angle(setup_.theta0_rad);
       r = sim_->settle();
@@ -131,6 +178,7 @@ Eigen::VectorXd WhiskerEnv::reset(std::optional<std::uint64_t> /*seed*/) {
   }
   settle_s_ += thread_cpu_seconds() - t0;
   reset_failure_ = r.ok() ? std::string() : std::string(fem::to_string(r.status)) + ": " + r.reason;
+  take_readings();
   if (recording_ && r.ok()) record(0.0);
   clear_history();
   return observe();
@@ -165,14 +213,16 @@ fem::StepResult WhiskerEnv::update_strain_zero() {
     return {};
   }
   const double p2 = fem::design_from_index(setup_.design).n >= 2 ? setup_.p2_kPa : 0.0;
-  const std::array<double, 3> key{static_cast<double>(setup_.design), setup_.p1_kPa, p2};
+  const std::pair<std::array<double, 3>, PhysicsDraw> key{{static_cast<double>(setup_.design), setup_.p1_kPa, p2},
+                                                          setup_.physics.simulation_part()};
   if (strain_zero_key_ && *strain_zero_key_ == key) return {};
   strain_zero_key_.reset();
   // The same quasi-static loading as an episode's settle, with the plate far below the tip (a
   // metre: out of reach of any design at any angle), so the body ends inflated and free.
   constexpr double kPlateAway_mm = 1000.0;
   sim_->reset();
-  sim_->set_pressures_kPa(setup_.p1_kPa, p2);
+  sim_->set_pressures_kPa(actual_kPa(setup_.p1_kPa, setup_.physics.pressure_scale_1),
+                          actual_kPa(p2, setup_.physics.pressure_scale_2));
   sim_->set_plate_mean_z(sim_->plate_touch_z() - kPlateAway_mm);
   fem::StepResult r = sim_->settle(fem::Simulator::SettleFor::Reading);  // reset() follows
   if (!r.ok()) {
@@ -210,7 +260,6 @@ Eigen::VectorXd WhiskerEnv::privileged_features() const {
 Eigen::VectorXd WhiskerEnv::current_observation() const {
   const fem::Design d = fem::design_from_index(setup_.design);
   const std::array<double, 3> j = fem::normalised(d);
-  const fem::Sensors s = sim_->sensors();
   const double pmax = task_.pressure_max_kPa;
   const double p2 = d.n >= 2 ? setup_.p2_kPa : 0.0;
   Eigen::VectorXd o(set_dim(task_.observation));
@@ -222,11 +271,11 @@ Eigen::VectorXd WhiskerEnv::current_observation() const {
     case ObservationSet::Proprioceptive:
       o.head<6>() << j[0], j[1], j[2], scaled(setup_.p1_kPa, 0.0, pmax), scaled(p2, 0.0, pmax),
           task_.strain_offset == StrainOffset::Inflated
-              ? scaled(s.axial_strain - strain_zero_, task_.zeroed_strain_min, task_.zeroed_strain_max)
-              : scaled(s.axial_strain, task_.strain_min, task_.strain_max);
+              ? scaled(observed_strain_ - tared_zero(), task_.zeroed_strain_min, task_.zeroed_strain_max)
+              : scaled(observed_strain_, task_.strain_min, task_.strain_max);
       if (task_.observation == ObservationSet::Proprioceptive) {
         const double lim = sim_->scene().theta_limit_deg * std::numbers::pi / 180.0;
-        o[6] = scaled(s.theta_rad, -lim, lim);
+        o[6] = scaled(observed_theta_, -lim, lim);
       }
       break;
   }
@@ -252,7 +301,9 @@ rl::StepResult WhiskerEnv::step(const Eigen::VectorXd& action) {
   if (task_.history > 0) push_history(current_observation(), a);
   const double dtheta = a * task_.theta_max_rad;
   const int hold = task_.action_hold_steps;
-  sim_->set_base_angle_target(sim_->theta() + dtheta, hold);
+  // A delayed actuation turns the base by the previous decision's command.
+  const double applied = setup_.physics.actuation_delay ? std::exchange(pending_dtheta_, dtheta) : dtheta;
+  sim_->set_base_angle_target(sim_->theta() + applied, hold);
   if (episode_fault_ != Fault::None && decision_ == task_.faults.at_decision) {
     if (episode_fault_ == Fault::NanPressure) sim_->set_pressures_kPa(std::nan(""), std::nan(""));
     if (episode_fault_ == Fault::InvertedElement) sim_->set_base_angle(sim_->theta() + std::numbers::pi);
@@ -263,6 +314,7 @@ rl::StepResult WhiskerEnv::step(const Eigen::VectorXd& action) {
     step_s_ += thread_cpu_seconds() - t0;
     if (!r.ok()) {
       ++decision_;
+      take_readings();
       out.obs = observe();
       out.terminated = true;
       out.reason = reason_cell(std::string("numerical: ") + fem::to_string(r.status) + ": " + r.reason);
@@ -278,6 +330,7 @@ rl::StepResult WhiskerEnv::step(const Eigen::VectorXd& action) {
   last_dtheta_ = dtheta;
   if (in_band(s.contact_force_mN, task_)) ++in_band_;
   ++decision_;
+  take_readings();
   out.obs = observe();
   if (!s.in_contact) {
     out.terminated = true;

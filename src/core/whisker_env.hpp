@@ -50,6 +50,7 @@
 
 #include "core/simulator_pool.hpp"
 #include "core/task_config.hpp"
+#include "rl/rng.hpp"
 #include "rl/env.hpp"
 
 namespace codesign::core {
@@ -67,6 +68,8 @@ struct EpisodeSetup {
   // Injected numerical failure (TaskConfig::faults); only the next episode after set_episode()
   // gets it, an episode restarted with reset() alone runs clean.
   Fault fault = Fault::None;
+  // The physics the episode meets (TaskConfig::randomize); nominal by default.
+  PhysicsDraw physics{};
 };
 
 // One simulation step of an episode, for evaluation traces and renders.
@@ -143,6 +146,19 @@ class WhiskerEnv final : public rl::Env {
   // Computes ε₀ for the current setup if strain_offset = Inflated and it is not known yet
   // (leaves the simulator in a state that needs reset()).
   fem::StepResult update_strain_zero();
+  // A simulator of the setup's design and drawn body and scene: leased from the pool for the
+  // nominal ones, built here (on fem::scaled_model, no meshing) for a drawn one.
+  void take_simulator();
+  void give_back_simulator();
+  // The gauge's and the encoder's readings of the present state through the episode's drawn gain,
+  // offset and noise (the true values when nominal).
+  void take_readings();
+  // The gauge's reading at ε₀, its tare (taken noiseless): the offset cancels in ε − ε₀, the gain
+  // does not.
+  double tared_zero() const;
+  // The simulation part of the setup's draw without its pressure errors: what the simulator is
+  // built for.
+  PhysicsDraw simulator_draw() const;
 
   std::shared_ptr<SimulatorPool> pool_;
   TaskConfig task_;
@@ -150,6 +166,7 @@ class WhiskerEnv final : public rl::Env {
   rl::EnvSpec spec_;
   EpisodeSetup setup_;
   int sim_design_ = -1;
+  PhysicsDraw sim_draw_;  // what sim_ was built for (nominal: leased from the pool)
   std::unique_ptr<fem::Simulator> sim_;
   // The settled state of the last setup settled on this environment: an episode restarted with
   // the same setup (after an early termination) restores it instead of settling again, with
@@ -157,9 +174,15 @@ class WhiskerEnv final : public rl::Env {
   std::optional<EpisodeSetup> settled_setup_;
   fem::Simulator::Snapshot settled_;
   std::string reset_failure_;   // non-empty: settling failed; the first step terminates
-  // ε₀ of strain_offset = Inflated, for the (design, p1, p2) in strain_zero_key_.
-  std::optional<std::array<double, 3>> strain_zero_key_;
+  // ε₀ of strain_offset = Inflated (the true strain), for the (design, p1, p2) and simulation
+  // draw in strain_zero_key_.
+  std::optional<std::pair<std::array<double, 3>, PhysicsDraw>> strain_zero_key_;
   double strain_zero_ = 0.0;
+  // The readings the policy sees now (take_readings), the per-decision noise stream of the
+  // episode's draw, and the base turn a delayed actuation still owes.
+  double observed_strain_ = 0.0, observed_theta_ = 0.0;
+  rl::Rng noise_rng_{0};
+  double pending_dtheta_ = 0.0;
   Fault fault_ = Fault::None;   // of the episode set by set_episode(), until its reset()
   Fault episode_fault_ = Fault::None;  // of the running episode
   int decision_ = 0;

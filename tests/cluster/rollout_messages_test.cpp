@@ -21,12 +21,20 @@ TEST(RolloutMessages, SetupsRoundTripBitForBit) {
   std::vector<core::EpisodeSetup> setups(4);
   setups[1] = {109, 19.089510258376322, 0.0, 3.14159265358979, -0.0, core::Fault::InvertedElement};
   setups[2] = {7, 1e-310, 20.0, 6.283185307179586, 0.5, core::Fault::NanPressure};
+  core::RandomizeConfig randomize;
+  randomize.youngs_modulus = 0.25;
+  randomize.plate_height_mm = 0.3;
+  randomize.strain_noise = 1e-4;
+  randomize.actuation_delay = true;
+  setups[2].physics = core::draw_physics(randomize, 5, 17, 3);
+  ASSERT_GT(setups[2].physics.noise_seed, 0xFFFFFFFFULL);  // both halves of the seed carry bits
   const std::vector<core::EpisodeSetup> back = unpack_setups(pack_setups(setups, 1, 2));
   ASSERT_EQ(back.size(), 2u);
   for (std::size_t k = 0; k < 2; ++k) {
     const core::EpisodeSetup &a = setups[1 + k], &b = back[k];
     EXPECT_EQ(a.design, b.design);
     EXPECT_EQ(a.fault, b.fault);
+    EXPECT_EQ(a.physics, b.physics);  // every field of the draw, doubles compared exactly
     for (auto [x, y] : {std::pair{a.p1_kPa, b.p1_kPa}, {a.p2_kPa, b.p2_kPa}, {a.plate_phase_rad, b.plate_phase_rad},
                         {a.theta0_rad, b.theta0_rad}})
       EXPECT_TRUE(same_bits(x, y)) << x << " " << y;
@@ -40,6 +48,12 @@ TEST(RolloutMessages, SetupsRoundTripBitForBit) {
   EXPECT_THROW(unpack_setups(v), std::invalid_argument);
   v[5] = 0.0;
   v[0] = 2.5;  // not a design index
+  EXPECT_THROW(unpack_setups(v), std::invalid_argument);
+  v = pack_setups(setups, 0, 1);
+  v[19] = 0.5;  // the delay flag is 0 or 1
+  EXPECT_THROW(unpack_setups(v), std::invalid_argument);
+  v[19] = 0.0;
+  v[20] = 4294967296.0;  // more than 32 bits in a seed half
   EXPECT_THROW(unpack_setups(v), std::invalid_argument);
 }
 
