@@ -19,6 +19,7 @@ TaskConfig read_task_config(io::TableReader& root) {
   io::read_keys(root, "task", [&](auto& v) { describe_task_table(v, c); });
   const int decisions = c.episode_steps / c.action_hold_steps;
   io::read_keys(root, "faults", [&](auto& v) { describe_faults_table(v, c.faults, decisions); });
+  io::read_keys(root, "randomize", [&](auto& v) { describe_randomize_table(v, c.randomize); });
   return c;
 }
 

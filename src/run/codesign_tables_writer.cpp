@@ -22,6 +22,11 @@ void write_faults_table(std::ostream& out, const TaskConfig& task) {
                  [&](auto& v) { describe_faults_table(v, c.faults, c.episode_steps / c.action_hold_steps); });
 }
 
+void write_randomize_table(std::ostream& out, const TaskConfig& task) {
+  TaskConfig c = task;
+  io::write_keys(out, "randomize", [&](auto& v) { describe_randomize_table(v, c.randomize); });
+}
+
 void write_codesign_table(std::ostream& out, const CodesignConfig& codesign, const TaskConfig& task) {
   CodesignConfig c = codesign;
   io::write_keys(out, "codesign", [&](auto& v) { describe_codesign_table(v, c, task.pressure_max_kPa); });
@@ -36,6 +41,8 @@ std::string resolved_run_config(const fem::WhiskerModelSpec& spec, const fem::Sc
   // Only a run that injects faults has the table: other runs keep their config text (and the
   // fingerprint of their checkpoints).
   if (loop.task.faults.enabled()) write_faults_table(out, loop.task);
+  // The same for physical uncertainty: a run without it resolves to the text it always had.
+  if (loop.task.randomize.enabled()) write_randomize_table(out, loop.task);
   write_codesign_table(out, loop.codesign, loop.task);
   io::write_ppo_table(out, loop.ppo);
   return out.str();

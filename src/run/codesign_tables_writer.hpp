@@ -19,6 +19,8 @@ namespace codesign::run {
 void write_task_table(std::ostream& out, const core::TaskConfig& task);
 // [faults] of task (resolved_run_config writes it only when a fault is enabled).
 void write_faults_table(std::ostream& out, const core::TaskConfig& task);
+// [randomize] of task (written only when physical uncertainty is on).
+void write_randomize_table(std::ostream& out, const core::TaskConfig& task);
 // [codesign] (baseline as "none" / "single_design", plate_phase_deg in degrees); task for the
 // ranges that depend on it.
 void write_codesign_table(std::ostream& out, const core::CodesignConfig& codesign, const core::TaskConfig& task);

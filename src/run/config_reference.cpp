@@ -45,6 +45,11 @@ std::vector<TableReference> config_tables() {
         TaskConfig c;
         core::describe_faults_table(v, c.faults, c.episode_steps / c.action_hold_steps);
       });
+  add("randomize", "physical uncertainty drawn per training episode (off by default); in config.toml only when on",
+      "`run`", true, [](auto& v) {
+        TaskConfig c;
+        core::describe_randomize_table(v, c.randomize);
+      });
   add("codesign", "the outer loop: Algorithms 1 and 2, evaluation, checkpoints, seed, baselines", "`run`, `evaluate`",
       true, [](auto& v) {
         CodesignConfig c;

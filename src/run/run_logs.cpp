@@ -52,13 +52,25 @@ std::optional<std::uint64_t> position(const fs::path& dir, const std::string& na
   return it->second;
 }
 
+std::vector<std::string> episode_columns(bool physics) {
+  std::vector<std::string> c{"t", "k", "j", "n", "l_mm", "w_mm", "p1_kPa", "p2_kPa", "phase_rad", "return",
+                             "decisions", "in_band", "first"};
+  if (physics)
+    for (const char* name : {"E_scale", "fibre_scale", "damping_scale", "mass_scale", "plate_amplitude_scale",
+                             "plate_frequency_scale", "plate_height_offset_mm", "p1_scale", "p2_scale", "strain_gain",
+                             "strain_offset", "strain_noise", "encoder_noise_rad", "actuation_delay"})
+      c.emplace_back(name);
+  c.emplace_back("reason");  // last: numerical_failures_logged reads it there
+  return c;
+}
+
 }  // namespace
 
-RunLogs::RunLogs(const fs::path& dir, const std::map<std::string, std::uint64_t>* resume, bool target_entropy) {
+RunLogs::RunLogs(const fs::path& dir, const std::map<std::string, std::uint64_t>* resume, bool target_entropy,
+                 bool physics)
+    : physics_(physics) {
   const std::vector<std::pair<std::string, std::vector<std::string>>> logs{
-      {run_file::kEpisodes,
-       {"t", "k", "j", "n", "l_mm", "w_mm", "p1_kPa", "p2_kPa", "phase_rad", "return", "decisions", "in_band",
-        "first", "reason"}},
+      {run_file::kEpisodes, episode_columns(physics)},
       {run_file::kPpo,
        {"k", "t", "pg_loss", "value_loss", "entropy_loss", "loss", "approx_kl", "clip_fraction",
         "explained_variance", "lr", "ent_coef", "epochs", "early_stopped", "grad_norm", "collect_s", "update_s",
@@ -79,9 +91,20 @@ void RunLogs::write_iteration(const core::IterationReport& rep, const core::Desi
                               const DistributionSummary& summary, double steps_per_s) {
   for (const core::EpisodeRecord& e : rep.episodes) {
     const fem::Design d = fem::design_from_index(e.setup.design);
-    episodes_->row({num(rep.t), num(rep.k), num(e.setup.design), num(d.n), num(d.chamber_length_mm), num(d.wall_mm),
-                    num(e.setup.p1_kPa), num(e.setup.p2_kPa), num(e.setup.plate_phase_rad), num(e.episode_return),
-                    num(e.decisions), num(e.in_band), num(e.first ? 1 : 0), e.reason});
+    std::vector<std::string> row{num(rep.t), num(rep.k), num(e.setup.design), num(d.n), num(d.chamber_length_mm),
+                                 num(d.wall_mm), num(e.setup.p1_kPa), num(e.setup.p2_kPa),
+                                 num(e.setup.plate_phase_rad), num(e.episode_return), num(e.decisions),
+                                 num(e.in_band), num(e.first ? 1 : 0)};
+    if (physics_) {
+      const core::PhysicsDraw& p = e.setup.physics;
+      row.insert(row.end(), {num(p.youngs_scale), num(p.fibre_scale), num(p.damping_scale), num(p.mass_scale),
+                             num(p.plate_amplitude_scale), num(p.plate_frequency_scale), num(p.plate_height_offset_mm),
+                             num(p.pressure_scale_1), num(p.pressure_scale_2), num(p.strain_gain),
+                             num(p.strain_offset), num(p.strain_noise), num(p.encoder_noise_rad),
+                             num(p.actuation_delay ? 1 : 0)});
+    }
+    row.push_back(e.reason);
+    episodes_->row(row);
   }
   const rl::PpoStats& p = rep.ppo;
   ppo_->row({num(rep.k), num(rep.t), num(p.pg_loss), num(p.value_loss), num(p.entropy_loss), num(p.loss),

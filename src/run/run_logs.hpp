@@ -21,8 +21,10 @@ class RunLogs {
   // back to those lengths. The cut happens only once every log fits its length, so a resume that
   // fails leaves every file as it was. distribution.csv has a target_entropy column after entropy
   // under the entropy schedule; under the ramp its columns are those of runs from before the
-  // schedule existed.
-  RunLogs(const std::filesystem::path& dir, const std::map<std::string, std::uint64_t>* resume, bool target_entropy);
+  // schedule existed. physics: episodes.csv carries each episode's physics draw (physics_columns(),
+  // before the reason, which stays last), for runs under [randomize].
+  RunLogs(const std::filesystem::path& dir, const std::map<std::string, std::uint64_t>* resume, bool target_entropy,
+          bool physics = false);
 
   // The rows of one iteration: its episodes, its PPO update, the distribution after it (its
   // summary and every design's q_disc) and the designs it sampled with their q_cont after it.
@@ -37,6 +39,7 @@ class RunLogs {
   static std::int64_t numerical_failures_logged(const std::filesystem::path& dir);
 
  private:
+  bool physics_ = false;
   std::unique_ptr<io::CsvLog> episodes_, ppo_, distribution_, q_, sampled_;
 };
 
