@@ -26,6 +26,7 @@ void add_baseline_command(CLI::App& root, Runner& run);   // cmd_baseline.cpp (`
 void add_sweep_command(CLI::App& root, Runner& run);      // cmd_sweep.cpp
 void add_refine_command(CLI::App& root, Runner& run);     // cmd_refine.cpp
 void add_evaluate_command(CLI::App& root, Runner& run);   // cmd_evaluate.cpp
+void add_verify_command(CLI::App& root, Runner& run);     // cmd_verify.cpp
 // `codesign bench <what>`: main.cpp creates the `bench` parent.
 void add_bench_fem_command(CLI::App& bench, Runner& run);  // bench/bench_fem.cpp
 void add_bench_ppo_command(CLI::App& bench, Runner& run);  // bench/bench_ppo.cpp

@@ -86,6 +86,7 @@ int run_command(int argc, char** argv) {
   app::add_sweep_command(root, run);
   app::add_refine_command(root, run);
   app::add_evaluate_command(root, run);
+  app::add_verify_command(root, run);
   CLI::App* bench = root.add_subcommand("bench", "Speed benchmarks that print figures and ratios");
   bench->require_subcommand(1);
   app::add_bench_fem_command(*bench, run);
