@@ -5,6 +5,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "rl/rng.hpp"
 #include "rl/thread_pool.hpp"
 
 namespace codesign::core {
@@ -35,6 +36,10 @@ DesignEvaluation evaluate_feedback(const ControllerFactory& make, const std::sha
     WhiskerEnv env(sims, task);
     EpisodeSetup s = setup;
     s.plate_phase_rad = evaluation_phase(static_cast<int>(k), options.episodes, options.phase_offset);
+    // Sensor noise: a stream of its own per episode (the given seed's k-th), so that episodes
+    // differ in their noise as well as their phase. No noise, no change.
+    if (s.physics.strain_noise > 0.0 || s.physics.encoder_noise_rad > 0.0)
+      s.physics.noise_seed = rl::Rng(s.physics.noise_seed + k).split().next_u64();
     env.set_episode(s);
     const FeedbackController controller = make ? make() : FeedbackController();
     env.set_recording(k == 0 && options.trace_first);
