@@ -229,6 +229,8 @@ std::vector<Case> cases() {
       config("seed_negative", "[codesign]\nseed = -1\n", {"seed_negative.toml: codesign.seed", "out of range; allowed [0, "}),
       config("integer_as_float", "[codesign]\ntotal_timesteps = 1.5\n", {"integer_as_float.toml: codesign.total_timesteps", "expected an integer in", "got a number"}),
       config("baseline", "[codesign]\nbaseline = \"random\"\n", {"baseline.toml: codesign.baseline", "\"none\", \"single_design\""}),
+      config("randomize_range", "[randomize]\nyoungs_modulus = 2.0\n", {"randomize_range.toml: randomize.youngs_modulus", "allowed [0, 0.9]"}),
+      config("randomize_key", "[randomize]\nyoung_modulus = 0.2\n", {"randomize_key.toml: randomize.young_modulus", "unknown key in [randomize]", "youngs_modulus"}),
       config("n_steps", "[ppo]\nn_steps = 7\n", {"n_steps.toml: ppo.n_steps", "must equal the decisions per episode", "= 50"}),
       config("hidden_empty_layer", "[ppo]\nactor_hidden = [64, 0]\n", {"hidden_empty_layer.toml: ppo.actor_hidden", "element 1 = 0 is out of range"}),
       config("precision", "[ppo]\nmatmul_precision = \"fp8\"\n", {"precision.toml: ppo.matmul_precision", "\"auto\""}),
@@ -254,7 +256,7 @@ std::vector<Case> cases() {
       cli("survey_designs_range", "survey --config DIR/tiny.toml -o DIR/survey --designs 3-110", {"--designs: '3-110' is not a design index or range A-B within 0..109"}),
       cli("sweep_designs_reversed", "sweep --config DIR/tiny.toml -o DIR/sweep --designs 9-4", {"--designs: '9-4' is not a design index or range A-B within 0..109"}),
       cli("sweep_threads_range", "sweep --config DIR/tiny.toml -o DIR/sweep --threads 1025", {"--threads", "1025", "1024"}),
-      cli("unknown_command", "frobnicate --config DIR/tiny.toml", {"unknown command 'frobnicate'", "allowed: run, survey, mesh, sim, train-gym, figures, check, config-keys, render, baseline, sweep, refine, evaluate, bench"}),
+      cli("unknown_command", "frobnicate --config DIR/tiny.toml", {"unknown command 'frobnicate'", "allowed: run, survey, mesh, sim, train-gym, figures, check, config-keys, render, baseline, sweep, refine, evaluate, verify, bench"}),
       cli("vtk_every_negative", "sim --config DIR/tiny.toml -o DIR/sim --vtk-every -3", {"--vtk-every", "-3"}),
       cli("check_unknown_file", "check DIR/tiny.toml", {"DIR/tiny.toml: not a file codesign reads", "allowed: a gmsh .msh 4.1 mesh"}),
       // ---- meshes (codesign check)
