@@ -7,6 +7,7 @@
 // deterministic (the policy's mean action), so these phases are the only difference between
 // episodes. Episodes run in parallel; each owns its environment, so results do not depend on the
 // thread count.
+#include <cmath>
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -53,6 +54,13 @@ struct DesignEvaluation {
   double mean_band_fraction = 0.0;
   std::vector<TraceRow> trace;        // episode 0, if asked
 };
+
+// Half-width of the 95 % interval of e's mean return over its n episodes: 1.96·s/√n with s the
+// sample std (std_return is the population one), the normal approximation, fair for n ≥ 30.
+inline double ci95_of_mean(const DesignEvaluation& e) {
+  const double n = static_cast<double>(e.returns.size());
+  return 1.96 * e.std_return * std::sqrt(n / (n - 1.0)) / std::sqrt(n);
+}
 
 // Plate phase of evaluation episode k of n: 2π(k + offset)/n.
 double evaluation_phase(int k, int n, double offset = 0.5);

@@ -6,23 +6,12 @@
 
 namespace codesign::core {
 
-namespace {
-
-// splitmix64: one well-mixed 64-bit value from another.
-std::uint64_t mix(std::uint64_t z) {
-  z += 0x9E3779B97F4A7C15ULL;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
-}
-
-}  // namespace
-
 PhysicsDraw draw_physics(const RandomizeConfig& c, std::uint64_t seed, std::int64_t k, std::size_t env) {
   if (!c.enabled()) return {};
   // A stream of its own per (seed, k, env): the constant keeps it apart from the run's streams,
   // which are split from Rng(seed).
-  rl::Rng rng(mix(mix(mix(seed ^ 0x52414E444F4D495AULL) + static_cast<std::uint64_t>(k)) + env));
+  using rl::splitmix64;
+  rl::Rng rng(splitmix64(splitmix64(splitmix64(seed ^ 0x52414E444F4D495AULL) + static_cast<std::uint64_t>(k)) + env));
   // Every factor is drawn, in this fixed order, whether or not its range is zero: widening one
   // range leaves the others' draws as they were.
   const auto relative = [&](double r) { return 1.0 + r * (2.0 * rng.uniform() - 1.0); };  // 1 exactly for r = 0

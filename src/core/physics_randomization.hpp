@@ -56,9 +56,6 @@ struct PhysicsDraw {
   bool actuation_delay = false;
   std::uint64_t noise_seed = 0;  // the episode's per-decision noise stream
 
-  // Whether the body or scene differs from the nominal one (a different simulation), as opposed
-  // to the sensors and the actuation only.
-  bool changes_simulation() const { return simulation_part() != PhysicsDraw{}; }
   // The draw with the sensors and the actuation nominal: what the simulation depends on (the key
   // of the environment's caches of ε₀ and of the settled state).
   PhysicsDraw simulation_part() const {
@@ -77,8 +74,11 @@ struct PhysicsDraw {
     nominal.preload_mm += plate_height_offset_mm;
     return nominal;
   }
-  bool changes_scene() const {
-    return plate_amplitude_scale != 1.0 || plate_frequency_scale != 1.0 || plate_height_offset_mm != 0.0;
+  // What the strain gauge reads for a strain: g ε + b (ε itself, to the bit, when nominal).
+  double gauge(double strain) const {
+    if (strain_gain != 1.0) strain *= strain_gain;
+    if (strain_offset != 0.0) strain += strain_offset;
+    return strain;
   }
 };
 

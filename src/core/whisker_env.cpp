@@ -118,21 +118,11 @@ void WhiskerEnv::take_simulator() {
   settled_setup_.reset();
 }
 
-double WhiskerEnv::tared_zero() const {
-  const PhysicsDraw& d = setup_.physics;
-  double z = strain_zero_;
-  if (d.strain_gain != 1.0) z *= d.strain_gain;
-  if (d.strain_offset != 0.0) z += d.strain_offset;
-  return z;
-}
-
 void WhiskerEnv::take_readings() {
   const fem::Sensors s = sim_->sensors();
   const PhysicsDraw& d = setup_.physics;
   // Nominal fields leave the true values untouched, to the bit.
-  observed_strain_ = s.axial_strain;
-  if (d.strain_gain != 1.0) observed_strain_ *= d.strain_gain;
-  if (d.strain_offset != 0.0) observed_strain_ += d.strain_offset;
+  observed_strain_ = d.gauge(s.axial_strain);
   if (d.strain_noise > 0.0) observed_strain_ += d.strain_noise * noise_rng_.normal();
   observed_theta_ = s.theta_rad;
   if (d.encoder_noise_rad > 0.0) observed_theta_ += d.encoder_noise_rad * noise_rng_.normal();
@@ -271,7 +261,9 @@ Eigen::VectorXd WhiskerEnv::current_observation() const {
     case ObservationSet::Proprioceptive:
       o.head<6>() << j[0], j[1], j[2], scaled(setup_.p1_kPa, 0.0, pmax), scaled(p2, 0.0, pmax),
           task_.strain_offset == StrainOffset::Inflated
-              ? scaled(observed_strain_ - tared_zero(), task_.zeroed_strain_min, task_.zeroed_strain_max)
+              // The tare is the gauge's (noiseless) reading at ε₀: the offset cancels, the gain stays.
+              ? scaled(observed_strain_ - setup_.physics.gauge(strain_zero_), task_.zeroed_strain_min,
+                       task_.zeroed_strain_max)
               : scaled(observed_strain_, task_.strain_min, task_.strain_max);
       if (task_.observation == ObservationSet::Proprioceptive) {
         const double lim = sim_->scene().theta_limit_deg * std::numbers::pi / 180.0;

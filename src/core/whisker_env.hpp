@@ -153,9 +153,6 @@ class WhiskerEnv final : public rl::Env {
   // The gauge's and the encoder's readings of the present state through the episode's drawn gain,
   // offset and noise (the true values when nominal).
   void take_readings();
-  // The gauge's reading at ε₀, its tare (taken noiseless): the offset cancels in ε − ε₀, the gain
-  // does not.
-  double tared_zero() const;
   // The simulation part of the setup's draw without its pressure errors: what the simulator is
   // built for.
   PhysicsDraw simulator_draw() const;

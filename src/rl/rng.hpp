@@ -18,6 +18,14 @@
 
 namespace codesign::rl {
 
+// splitmix64's output function: one well-mixed 64-bit value from another (seeds of child streams).
+inline std::uint64_t splitmix64(std::uint64_t z) {
+  z += 0x9E3779B97F4A7C15ULL;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
 class Rng {
  public:
   explicit Rng(std::uint64_t seed = 0) : engine_(seed) {}
@@ -52,12 +60,7 @@ class Rng {
   }
 
   // A new generator seeded from this one (splitmix64 of a draw, so child streams differ).
-  Rng split() {
-    std::uint64_t z = engine_() + 0x9E3779B97F4A7C15ULL;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return Rng(z ^ (z >> 31));
-  }
+  Rng split() { return Rng(splitmix64(engine_())); }
 
   std::mt19937_64& engine() { return engine_; }
 

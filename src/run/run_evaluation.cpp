@@ -26,6 +26,7 @@
 #include "run/checkpoint.hpp"
 #include "run/codesign_tables_writer.hpp"
 #include "run/run_config.hpp"
+#include "run/resumable_table.hpp"
 #include "run/run_folder.hpp"
 
 namespace codesign::run {
@@ -76,11 +77,6 @@ std::vector<RunEvaluationRow> read_rows(const std::string& path) {
     rows.push_back(r);
   }
   return rows;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 // Draws ranking.png from ranking.dat with plots/evaluate_ranking.gp; "" if drawn, else why not.
@@ -213,32 +209,6 @@ std::string evaluation_stamp(const RestoredState& state, const PressureSource& s
   return stamp.str();
 }
 
-// The rows designs.csv already holds when the folder holds this evaluation (a half-written last
-// line cut); otherwise (or with `force`) a new evaluate.toml and designs.csv and no rows. Another
-// evaluation in the folder without `force` is an InputError.
-std::vector<RunEvaluationRow> open_evaluation_folder(const fs::path& folder, const std::string& stamp, bool force) {
-  const fs::path stamp_path = folder / "evaluate.toml", csv = folder / "designs.csv";
-  std::vector<RunEvaluationRow> done;
-  std::error_code ec;
-  if (fs::exists(csv, ec)) {
-    if (slurp(stamp_path) == stamp && !force) {
-      done = read_rows(csv.string());
-      // Cut a half-written last line so appends start on a fresh line.
-      const std::string text = slurp(csv);
-      fs::resize_file(csv, text.rfind('\n') + 1);
-    } else if (!force) {
-      throw InputError(folder.string() + ": holds an evaluation with other settings (" + stamp_path.string() +
-                       "); pass --force to replace it");
-    }
-  }
-  if (done.empty()) {
-    for (const char* f : {"ranking.csv", "ranking.dat", "ranking.png"}) fs::remove(folder / f, ec);
-    io::write_file_atomically(stamp_path.string(), [&](std::ostream& out) { out << stamp; });
-    io::write_file_atomically(csv.string(), [&](std::ostream& out) { out << kColumns << '\n'; });
-  }
-  return done;
-}
-
 // Design j tested with the policy over `phases` plate phases at the pressures `pressure_dist` gives.
 RunEvaluationRow evaluate_design(int j, const ControllerFactory& controller, const RestoredState& state,
                                  const DesignDistribution& pressure_dist, const TaskConfig& task,
@@ -260,8 +230,7 @@ RunEvaluationRow evaluate_design(int j, const ControllerFactory& controller, con
   r.samples = dist.state().samples[static_cast<std::size_t>(j)];
   r.mean_return = e.mean_return;
   r.std_return = e.std_return;
-  const double n = static_cast<double>(phases);
-  r.ci95 = 1.96 * e.std_return * std::sqrt(n / (n - 1.0)) / std::sqrt(n);
+  r.ci95 = ci95_of_mean(e);
   r.band_fraction = e.mean_band_fraction;
   r.episodes = phases;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -323,8 +292,12 @@ RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluati
   summary.runner_up = rank.size() < 2 ? -1 : (rank[0] == summary.leading_design ? rank[1] : rank[0]);
   const io::RunLock lock(folder.string());
 
-  std::vector<RunEvaluationRow> done =
-      open_evaluation_folder(folder, evaluation_stamp(state, source, summary, options, phases), options.force);
+  std::vector<RunEvaluationRow> done = open_resumable_table<RunEvaluationRow>(
+      folder, folder / "evaluate.toml", folder / "designs.csv", evaluation_stamp(state, source, summary, options, phases),
+      kColumns, options.force, "an evaluation", [](const fs::path& csv) { return read_rows(csv.string()); });
+  std::error_code ec;
+  if (done.empty())
+    for (const char* f : {"ranking.csv", "ranking.dat", "ranking.png"}) fs::remove(folder / f, ec);
   std::set<int> have;
   for (const RunEvaluationRow& r : done) have.insert(r.design);
   summary.designs_before = static_cast<int>(have.size());

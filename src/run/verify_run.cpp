@@ -18,6 +18,7 @@
 #include "io/formats/run_lock.hpp"
 #include "rl/policy_file.hpp"
 #include "run/run_config.hpp"
+#include "run/resumable_table.hpp"
 #include "run/run_folder.hpp"
 #include "run/run_settings.hpp"
 
@@ -35,15 +36,8 @@ constexpr double kStrainNoise = 0.02 * (8.997e-05 + 9.826e-04);
 
 std::string num(double v) { return io::CsvLog::num(v); }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::map<std::string, VerifyRow> read_rows(const fs::path& csv) {
-  std::map<std::string, VerifyRow> rows;
+std::vector<VerifyRow> read_rows(const fs::path& csv) {
+  std::vector<VerifyRow> rows;
   const io::CsvTable t = io::read_csv(csv.string());
   for (std::size_t i = 0; i < t.rows(); ++i) {
     VerifyRow r;
@@ -53,7 +47,7 @@ std::map<std::string, VerifyRow> read_rows(const fs::path& csv) {
     r.ci95 = t.number(i, t.column("ci95"));
     r.band_fraction = t.number(i, t.column("band_fraction"));
     r.episodes = static_cast<int>(t.integer(i, t.column("episodes")));
-    rows[r.condition] = r;
+    rows.push_back(r);
   }
   return rows;
 }
@@ -143,21 +137,11 @@ VerifySummary verify_run(const VerifyOptions& options) {
         << "pressures_kPa = [" << num(summary.p1_kPa) << ", " << num(summary.p2_kPa) << "]\n"
         << "phases = " << options.phases << "   # test plate phases 2*pi*(k + 1/2)/phases\n"
         << "policy_bytes = " << fs::file_size(dir / run_file::kPolicy) << "\n";
-  const fs::path stamp_path = folder / "verify.toml", csv = folder / "conditions.csv";
+  const fs::path csv = folder / "conditions.csv";
   std::map<std::string, VerifyRow> done;
-  if (fs::exists(csv, ec)) {
-    if (slurp(stamp_path) == stamp.str() && !options.force) {
-      done = read_rows(csv);
-      fs::resize_file(csv, slurp(csv).rfind('\n') + 1);
-    } else if (!options.force) {
-      throw InputError(folder.string() + ": holds a verify with other settings (" + stamp_path.string() +
-                       "); pass --force to replace it");
-    }
-  }
-  if (done.empty()) {
-    io::write_file_atomically(stamp_path.string(), [&](std::ostream& out) { out << stamp.str(); });
-    io::write_file_atomically(csv.string(), [&](std::ostream& out) { out << kColumns << '\n'; });
-  }
+  for (const VerifyRow& r : open_resumable_table<VerifyRow>(folder, folder / "verify.toml", csv, stamp.str(), kColumns,
+                                                            options.force, "a verify", read_rows))
+    done[r.condition] = r;
   summary.conditions_before = static_cast<int>(done.size());
 
   const core::ControllerFactory controller = core::policy_factory(policy);
@@ -191,8 +175,7 @@ VerifySummary verify_run(const VerifyOptions& options) {
     r.condition = c.name;
     r.mean_return = e.mean_return;
     r.std_return = e.std_return;
-    const double n = static_cast<double>(options.phases);
-    r.ci95 = 1.96 * e.std_return * std::sqrt(n / (n - 1.0)) / std::sqrt(n);
+    r.ci95 = core::ci95_of_mean(e);
     r.band_fraction = e.mean_band_fraction;
     r.episodes = options.phases;
     std::ofstream out(csv, std::ios::binary | std::ios::app);

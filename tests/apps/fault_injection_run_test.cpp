@@ -10,12 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "file_text.hpp"
 #include "run_binary.hpp"
 #include "tiny_run.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using codesign::test::csv_cells;
 using codesign::test::run_codesign;
 
 // 6 iterations of 4 environments x 2 decisions; faults before the first decision.
@@ -30,13 +32,6 @@ const std::string kRun = [] {
   r.tables = "[faults]\nnan_pressure_every = 3\ninverted_element_every = 5\nat_decision = 0\n";
   return r.toml();
 }();
-
-std::vector<std::string> cells(const std::string& line) {
-  std::vector<std::string> c;
-  std::stringstream s(line);
-  for (std::string cell; std::getline(s, cell, ',');) c.push_back(cell);
-  return c;
-}
 
 TEST(FaultInjectionRun, InjectedFailuresEndOnlyTheirEpisodesAndAreCounted) {
   const fs::path d = fs::temp_directory_path() / ("codesign_faults_" + std::to_string(::getpid()));
@@ -62,12 +57,12 @@ TEST(FaultInjectionRun, InjectedFailuresEndOnlyTheirEpisodesAndAreCounted) {
   std::ifstream in(d / "run" / "episodes.csv");
   std::string line;
   std::getline(in, line);
-  const std::vector<std::string> header = cells(line);
+  const std::vector<std::string> header = csv_cells(line);
   ASSERT_EQ(header.back(), "reason");
   std::map<int, int> nan_seen, inv_seen;
   int rows = 0, numerical = 0;
   while (std::getline(in, line)) {
-    const std::vector<std::string> c = cells(line);
+    const std::vector<std::string> c = csv_cells(line);
     ASSERT_EQ(c.size(), header.size()) << line;
     ++rows;
     const int k = std::stoi(c[1]);

@@ -1,10 +1,11 @@
 #pragma once
-// Reading run-folder files in the binary's tests: a whole file as bytes, and result.toml
-// without its wall-clock line (the one field that differs between reruns).
+// Reading run-folder files in the binary's tests: a whole file as bytes, result.toml without its
+// wall-clock line (the one field that differs between reruns), and the cells of a CSV line.
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace codesign::test {
 
@@ -21,6 +22,14 @@ inline std::string without_wall(const std::string& toml) {
   while (std::getline(in, line))
     if (line.rfind("wall_s", 0) != 0) out += line + "\n";
   return out;
+}
+
+// The cells of one line of a run's CSV logs (no quoting: the writers never put a comma in a cell).
+inline std::vector<std::string> csv_cells(const std::string& line) {
+  std::vector<std::string> c;
+  std::stringstream s(line);
+  for (std::string cell; std::getline(s, cell, ',');) c.push_back(cell);
+  return c;
 }
 
 }  // namespace codesign::test

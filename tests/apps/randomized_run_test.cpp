@@ -16,13 +16,16 @@
 #include <unistd.h>
 
 #include "core/physics_randomization.hpp"
+#include "file_text.hpp"
 #include "run_binary.hpp"
 #include "tiny_run.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using codesign::test::csv_cells;
 using codesign::test::run_codesign;
+using codesign::test::slurp;
 
 const std::string kRun = [] {
   codesign::test::TinyRun r = codesign::test::TinyRun::minimal();
@@ -37,20 +40,6 @@ const std::string kRun = [] {
       "strain_noise = 0.00002\nactuation_delay = true\n";
   return r.toml();
 }();
-
-std::vector<std::string> cells(const std::string& line) {
-  std::vector<std::string> c;
-  std::stringstream s(line);
-  for (std::string cell; std::getline(s, cell, ',');) c.push_back(cell);
-  return c;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 TEST(RandomizedRun, EpisodesLogTheirDrawsAndThreadsDoNotMatter) {
   const fs::path d = fs::temp_directory_path() / ("codesign_randomize_" + std::to_string(::getpid()));
@@ -68,7 +57,7 @@ TEST(RandomizedRun, EpisodesLogTheirDrawsAndThreadsDoNotMatter) {
   std::ifstream in(d / "t1" / "episodes.csv");
   std::string line;
   std::getline(in, line);
-  const std::vector<std::string> header = cells(line);
+  const std::vector<std::string> header = csv_cells(line);
   ASSERT_EQ(header.back(), "reason");
   const auto col = [&](const char* name) {
     for (std::size_t i = 0; i < header.size(); ++i)
@@ -80,7 +69,7 @@ TEST(RandomizedRun, EpisodesLogTheirDrawsAndThreadsDoNotMatter) {
   double lo = 2.0, hi = 0.0;
   std::map<int, std::vector<double>> first_e;  // iteration -> E scales of its first episodes
   while (std::getline(in, line)) {
-    const std::vector<std::string> c = cells(line);
+    const std::vector<std::string> c = csv_cells(line);
     ASSERT_EQ(c.size(), header.size()) << line;
     const double e = std::stod(c[col("E_scale")]);
     lo = std::min(lo, e), hi = std::max(hi, e);

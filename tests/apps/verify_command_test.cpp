@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "run/verify_run.hpp"
+#include "file_text.hpp"
 #include "run_binary.hpp"
 #include "tiny_run.hpp"
 
@@ -20,13 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using codesign::test::run_codesign;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using codesign::test::slurp;
 
 // The value of `key = ` in the [best] table of result.toml.
 std::string best_value(const std::string& result, const std::string& key) {

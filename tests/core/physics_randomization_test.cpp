@@ -23,7 +23,7 @@ TEST(PhysicsRandomization, OffIsNominalForEveryEnvironment) {
   const RandomizeConfig off;
   EXPECT_FALSE(off.enabled());
   for (std::size_t env = 0; env < 5; ++env) EXPECT_EQ(draw_physics(off, 7, 3, env), PhysicsDraw{});
-  EXPECT_FALSE(PhysicsDraw{}.changes_simulation());
+  EXPECT_EQ(PhysicsDraw{}.simulation_part(), PhysicsDraw{});
 }
 
 TEST(PhysicsRandomization, APureFunctionOfSeedIterationAndEnvironment) {
@@ -47,7 +47,7 @@ TEST(PhysicsRandomization, DrawsFillTheirRangesUniformly) {
     EXPECT_EQ(d.fibre_scale, 1.0);  // zero ranges stay nominal exactly
     EXPECT_EQ(d.strain_offset, 0.0);
     EXPECT_EQ(d.strain_noise, 1e-4);
-    EXPECT_TRUE(d.changes_simulation());
+    EXPECT_NE(d.simulation_part(), PhysicsDraw{});
     lo = std::min(lo, d.youngs_scale);
     hi = std::max(hi, d.youngs_scale);
     h_lo = std::min(h_lo, d.plate_height_offset_mm);
