@@ -57,6 +57,11 @@ void describe_task_table(V& v, TaskConfig& c) {
   v.require(c.zeroed_strain_max > c.zeroed_strain_min, "zeroed_strain_max", [&] {
     return "must exceed task.zeroed_strain_min (" + std::to_string(c.zeroed_strain_min) + ")";
   });
+  v.choice({.name = "stiffness_cue", .unit = "",
+            .meaning = "stiffness reading appended to the observation: \"inflation\" (the gauge at p less at 0) or "
+                       "\"true_modulus\" (a reference bound)",
+            .written = config::Written::UnlessDefault, .at_default = c.stiffness_cue == TaskConfig{}.stiffness_cue},
+           c.stiffness_cue, kStiffnessCueNames);
   v.number({"pressure_max_kPa", "kPa", "largest chamber pressure a design may be given (paper: 20)"},
            c.pressure_max_kPa, {1e-3, 100.0});
 }

@@ -47,7 +47,7 @@ DesignEvaluation evaluate_feedback(const ControllerFactory& make, const std::sha
     Eigen::VectorXd a(1);
     double ret = 0.0;
     for (;;) {
-      a[0] = controller ? controller(obs, env.simulator().sensors()) : 0.0;
+      a[0] = controller ? controller(obs, env.readings()) : 0.0;
       rl::StepResult r = env.step(a);
       ret += r.reward;
       if (r.done()) {

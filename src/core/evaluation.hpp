@@ -25,8 +25,9 @@ namespace codesign::core {
 
 // Observation -> action (before clipping).
 using Controller = std::function<double(const Eigen::VectorXd& obs)>;
-// A controller with memory that also reads the simulator's sensors after each decision (the
-// contact force F among them: an oracle the policy does not have), e.g. a PID. A factory makes
+// A controller with memory that also reads the sensors after each decision (WhiskerEnv::readings:
+// strain and base angle as the episode's gauge and encoder read them, and the true contact force
+// F: an oracle the policy does not have), e.g. a PID. A factory makes
 // a fresh one for every episode, so episodes (which run in parallel) share no state.
 using FeedbackController = std::function<double(const Eigen::VectorXd& obs, const fem::Sensors& sensors)>;
 using ControllerFactory = std::function<FeedbackController()>;

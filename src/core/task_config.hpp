@@ -35,6 +35,25 @@ inline constexpr EnumNames<StrainOffset, 2> kStrainOffsetNames{{{StrainOffset::N
                                                                 {StrainOffset::Inflated, "inflated"}}};
 inline const char* to_string(StrainOffset s) { return name_of(kStrainOffsetNames, s).data(); }
 
+// What the policy is told of the body's stiffness, beside ε (ours; docs/codesign.md, "Physical
+// uncertainty"). The tared ε − ε₀ cannot tell a stiff body from a soft one: in contact the plate
+// imposes the displacement, so ε − ε₀ barely moves with E while the force scales with it.
+//   None         nothing (the default).
+//   Inflation    the gauge's two-point start-up reading g ε(p) + b − (g ε(0) + b) = g (ε(p) − ε(0)),
+//                out of contact at the episode's pressures and at none: the chamber as its own
+//                stiffness probe (the inflation strain grows as p / E up to the fibres). The offset
+//                b cancels; the gain g stays, as it does in the contact reading, so their ratio
+//                tracks E / g, what the force needs. Scaled by [0, strain_max]. Taken noiseless:
+//                a robot at rest averages many samples at start-up.
+//   TrueModulus  E / E_nominal of the episode's draw, scaled by [1 − r, 1 + r] of
+//                [randomize] youngs_modulus: an upper bound for reference, not a reading any
+//                robot has.
+enum class StiffnessCue { None, Inflation, TrueModulus };
+inline constexpr EnumNames<StiffnessCue, 3> kStiffnessCueNames{{{StiffnessCue::None, "none"},
+                                                                {StiffnessCue::Inflation, "inflation"},
+                                                                {StiffnessCue::TrueModulus, "true_modulus"}}};
+inline const char* to_string(StiffnessCue s) { return name_of(kStiffnessCueNames, s).data(); }
+
 // Numerical failure injection ([faults]; off by default): a test of the claim that a numerical
 // failure of the simulator ends only the episode it happens in, with a logged reason
 // ("numerical: <status>: <detail>" in episodes.csv) and a count in the results. A chosen
@@ -96,6 +115,8 @@ struct TaskConfig {
   // (docs/journal/codesign.md, "The survey as printed at its commits").
   double zeroed_strain_min = -0.0009826;
   double zeroed_strain_max = 0.00008997;
+  // One more observation component for the body's stiffness (above); appended after the history.
+  StiffnessCue stiffness_cue = StiffnessCue::None;
   // Chamber pressures p_i ∈ [0, pressure_max_kPa] (paper: 20 kPa): the observation's pressure
   // scale and the range of the design distribution's latent map.
   double pressure_max_kPa = 20.0;

@@ -74,7 +74,8 @@ int dynamic_observation_dim(ObservationSet set) {
 }
 
 int observation_dim(const TaskConfig& task) {
-  return set_dim(task.observation) + task.history * (dynamic_observation_dim(task.observation) + 1);
+  return set_dim(task.observation) + task.history * (dynamic_observation_dim(task.observation) + 1) +
+         (task.stiffness_cue != StiffnessCue::None ? 1 : 0);
 }
 
 WhiskerEnv::WhiskerEnv(std::shared_ptr<SimulatorPool> pool, const TaskConfig& task, bool privileged)
@@ -126,6 +127,13 @@ void WhiskerEnv::take_readings() {
   if (d.strain_noise > 0.0) observed_strain_ += d.strain_noise * noise_rng_.normal();
   observed_theta_ = s.theta_rad;
   if (d.encoder_noise_rad > 0.0) observed_theta_ += d.encoder_noise_rad * noise_rng_.normal();
+}
+
+fem::Sensors WhiskerEnv::readings() const {
+  fem::Sensors s = sim_->sensors();
+  s.axial_strain = observed_strain_;
+  s.theta_rad = observed_theta_;
+  return s;
 }
 
 void WhiskerEnv::set_episode(const EpisodeSetup& setup) {
@@ -197,8 +205,22 @@ void WhiskerEnv::push_history(const Eigen::VectorXd& seen, double a) {
   history_actions_[0] = a;
 }
 
+fem::StepResult WhiskerEnv::free_strain(double p1_kPa, double p2_kPa, double& strain) {
+  // The same quasi-static loading as an episode's settle, with the plate far below the tip (a
+  // metre: out of reach of any design at any angle), so the body ends inflated and free.
+  constexpr double kPlateAway_mm = 1000.0;
+  sim_->reset();
+  sim_->set_pressures_kPa(actual_kPa(p1_kPa, setup_.physics.pressure_scale_1),
+                          actual_kPa(p2_kPa, setup_.physics.pressure_scale_2));
+  sim_->set_plate_mean_z(sim_->plate_touch_z() - kPlateAway_mm);
+  const fem::StepResult r = sim_->settle(fem::Simulator::SettleFor::Reading);  // reset() follows
+  if (r.ok()) strain = sim_->sensors().axial_strain;
+  return r;
+}
+
 fem::StepResult WhiskerEnv::update_strain_zero() {
-  if (task_.strain_offset != StrainOffset::Inflated) {
+  const bool cue = task_.stiffness_cue == StiffnessCue::Inflation;
+  if (task_.strain_offset != StrainOffset::Inflated && !cue) {
     strain_zero_ = 0.0;
     return {};
   }
@@ -207,29 +229,40 @@ fem::StepResult WhiskerEnv::update_strain_zero() {
                                                           setup_.physics.simulation_part()};
   if (strain_zero_key_ && *strain_zero_key_ == key) return {};
   strain_zero_key_.reset();
-  // The same quasi-static loading as an episode's settle, with the plate far below the tip (a
-  // metre: out of reach of any design at any angle), so the body ends inflated and free.
-  constexpr double kPlateAway_mm = 1000.0;
-  sim_->reset();
-  sim_->set_pressures_kPa(actual_kPa(setup_.p1_kPa, setup_.physics.pressure_scale_1),
-                          actual_kPa(p2, setup_.physics.pressure_scale_2));
-  sim_->set_plate_mean_z(sim_->plate_touch_z() - kPlateAway_mm);
-  fem::StepResult r = sim_->settle(fem::Simulator::SettleFor::Reading);  // reset() follows
+  double zero = 0.0, rest = 0.0;
+  fem::StepResult r = free_strain(setup_.p1_kPa, p2, zero);
+  // The body at no pressure: the other point of the start-up reading.
+  if (r.ok() && cue) r = free_strain(0.0, 0.0, rest);
   if (!r.ok()) {
     r.reason = "zeroing the strain sensor: " + r.reason;
     return r;
   }
-  strain_zero_ = sim_->sensors().axial_strain;
+  strain_zero_ = task_.strain_offset == StrainOffset::Inflated ? zero : 0.0;
+  inflation_reading_ = setup_.physics.gauge(zero) - setup_.physics.gauge(rest);
   strain_zero_key_ = key;
   return r;
 }
 
+double WhiskerEnv::stiffness_cue() const {
+  switch (task_.stiffness_cue) {
+    case StiffnessCue::None: return 0.0;
+    case StiffnessCue::Inflation: return scaled(inflation_reading_, 0.0, task_.strain_max);
+    case StiffnessCue::TrueModulus: {
+      const double r = task_.randomize.youngs_modulus;
+      return r > 0.0 ? scaled(setup_.physics.youngs_scale, 1.0 - r, 1.0 + r) : 0.0;
+    }
+  }
+  return 0.0;
+}
+
 Eigen::VectorXd WhiskerEnv::observe() const {
-  if (task_.history == 0 && !privileged_) return current_observation();
+  const bool cue = task_.stiffness_cue != StiffnessCue::None;
+  if (task_.history == 0 && !privileged_ && !cue) return current_observation();
   Eigen::VectorXd o(spec_.observation.dim());
   const Eigen::VectorXd now = current_observation();
-  if (privileged_) o << now, history_obs_, history_actions_, privileged_features();
-  else o << now, history_obs_, history_actions_;
+  const Eigen::VectorXd stiffness = Eigen::VectorXd::Constant(cue ? 1 : 0, stiffness_cue());
+  if (privileged_) o << now, history_obs_, history_actions_, stiffness, privileged_features();
+  else o << now, history_obs_, history_actions_, stiffness;
   if (!o.allFinite()) o.setZero();
   return o;
 }

@@ -28,6 +28,8 @@
 //   no_feedback    a_{t−1} … a_{t−k}                                              (+k)
 // Slots before the episode's first decision hold the episode's first observation (ε, θ after
 // settling) and action 0, so that a constant input reads as "no change yet".
+// TaskConfig::stiffness_cue other than "none" appends one constant component after the history:
+// the gauge's start-up inflation reading or the drawn modulus (task_config.hpp).
 // Privileged features (constructed with privileged = true, for a privileged critic during
 // training; rl/actor_critic.hpp): after all of the above, kPrivilegedDim components of the true
 // state no sensor of the robot gives:
@@ -35,7 +37,8 @@
 //   sin(ω t + φ) and cos(ω t + φ) of the plate, 2·decision/decisions − 1 (time in the episode).
 // With TaskConfig::strain_offset = Inflated the ε component is ε − ε₀ (task_config.hpp): ε₀ comes
 // from a settle of the same design and pressures with the plate out of reach, once per
-// (design, pressures) on this environment.
+// (design, pressures, simulation draw) on this environment; the inflation cue adds one at no
+// pressure, on the same key.
 // The env draws no random numbers: the caller chooses design, pressures and plate phase
 // (EpisodeSetup) before reset(); reset()'s seed is ignored.
 #include <array>
@@ -131,6 +134,10 @@ class WhiskerEnv final : public rl::Env {
   double step_seconds() const { return step_s_; }
   // The simulator of the current episode (valid after reset()).
   const fem::Simulator& simulator() const { return *sim_; }
+  // The sensors as the robot reads them: the simulator's, with the strain and the base angle
+  // through the episode's drawn gauge, encoder and noise (what the policy observes); the contact
+  // force stays true. Equal to simulator().sensors() under nominal physics.
+  fem::Sensors readings() const;
 
  private:
   // The observation set's components for the present state (without the history).
@@ -146,6 +153,11 @@ class WhiskerEnv final : public rl::Env {
   // Computes ε₀ for the current setup if strain_offset = Inflated and it is not known yet
   // (leaves the simulator in a state that needs reset()).
   fem::StepResult update_strain_zero();
+  // Settles the body free of the plate at the given pressures (through the draw's pressure
+  // errors) and reads the true strain; leaves the simulator in a state that needs reset().
+  fem::StepResult free_strain(double p1_kPa, double p2_kPa, double& strain);
+  // The stiffness cue's component, scaled (TaskConfig::stiffness_cue).
+  double stiffness_cue() const;
   // A simulator of the setup's design and drawn body and scene: leased from the pool for the
   // nominal ones, built here (on fem::scaled_model, no meshing) for a drawn one.
   void take_simulator();
@@ -175,6 +187,9 @@ class WhiskerEnv final : public rl::Env {
   // draw in strain_zero_key_.
   std::optional<std::pair<std::array<double, 3>, PhysicsDraw>> strain_zero_key_;
   double strain_zero_ = 0.0;
+  // The gauge's start-up reading at the setup's pressures less at none (stiffness_cue =
+  // "inflation"), for the same key.
+  double inflation_reading_ = 0.0;
   // The readings the policy sees now (take_readings), the per-decision noise stream of the
   // episode's draw, and the base turn a delayed actuation still owes.
   double observed_strain_ = 0.0, observed_theta_ = 0.0;

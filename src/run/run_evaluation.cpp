@@ -335,6 +335,19 @@ RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluati
   return summary;
 }
 
+std::vector<StateDesign> state_designs(const RunSettings& settings, const std::string& dir, const std::string& at) {
+  const RestoredState state = restore_state(settings, dir, at);
+  const DesignDistribution& dist = state.loop->distribution();
+  const Eigen::VectorXd q = dist.probabilities(state.loop->timesteps());
+  std::vector<StateDesign> out;
+  for (int j = 0; j < fem::kDesignCount; ++j) {
+    const Eigen::Vector2d p = test_pressures(dist, j);
+    out.push_back({j, q[j], p[0], p[1]});
+  }
+  std::stable_sort(out.begin(), out.end(), [](const StateDesign& a, const StateDesign& b) { return a.q > b.q; });
+  return out;
+}
+
 void evaluate_run_folder(const RunEvaluationOptions& eo) {
   const fs::path dir(eo.dir);
   if (!fs::exists(dir / run_file::kConfig))

@@ -93,6 +93,17 @@ RunEvaluationSummary evaluate_run(const RunSettings& settings, const RunEvaluati
 // prints the ten best designs and where d* and the runner-up rank.
 void evaluate_run_folder(const RunEvaluationOptions& options);
 
+// One design of a run's state as `evaluate` tests it: its probability q_disc(j) and its test
+// pressures (map(μ_j), or p* for the design the distribution has collapsed to).
+struct StateDesign {
+  int design = 0;
+  double q = 0.0;
+  double p1_kPa = 0.0, p2_kPa = 0.0;
+};
+// Every design of the state `at` of a run folder, most probable first (ties: lower index); no
+// episode runs. InputError as evaluate_run for a missing checkpoint or one of another config.
+std::vector<StateDesign> state_designs(const RunSettings& settings, const std::string& dir, const std::string& at);
+
 // The checkpoint file of `at` in a run folder ("final" -> checkpoint.bin); InputError otherwise.
 std::string checkpoint_file_of(const std::string& at);
 

@@ -1,24 +1,29 @@
 #include "run/verify_run.hpp"
 
-#include <cmath>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "base/errors.hpp"
+#include "base/seconds_since.hpp"
 #include "core/evaluation.hpp"
+#include "core/pid_tuning.hpp"
 #include "core/policy_controller.hpp"
 #include "fem/design.hpp"
 #include "io/formats/atomic_file.hpp"
 #include "io/formats/csv_log.hpp"
 #include "io/formats/csv_table.hpp"
+#include "io/formats/gnuplot.hpp"
 #include "io/formats/run_lock.hpp"
 #include "rl/policy_file.hpp"
-#include "run/run_config.hpp"
 #include "run/resumable_table.hpp"
+#include "run/run_config.hpp"
+#include "run/run_evaluation.hpp"
 #include "run/run_folder.hpp"
 #include "run/run_settings.hpp"
 
@@ -28,11 +33,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kColumns = "condition,mean_return,std_return,ci95,band_fraction,episodes";
+constexpr const char* kColumns =
+    "subject,controller,design,p1_kPa,p2_kPa,condition,mean_return,std_return,ci95,band_fraction,episodes";
 
 // The strain noise of the suite: 2 % of the tared strain's reference range per decision (the
 // range the observation scales to [−1, 1]), a gauge of a few microstrain.
 constexpr double kStrainNoise = 0.02 * (8.997e-05 + 9.826e-04);
+
+// Plate phase offsets: the test phases every reported result uses, and the validation phases
+// experiments choose settings on (neither is a tuning phase, core::kTuningPhaseOffset).
+constexpr double kTestOffset = 0.5, kValidationOffset = 0.25;
 
 std::string num(double v) { return io::CsvLog::num(v); }
 
@@ -41,6 +51,11 @@ std::vector<VerifyRow> read_rows(const fs::path& csv) {
   const io::CsvTable t = io::read_csv(csv.string());
   for (std::size_t i = 0; i < t.rows(); ++i) {
     VerifyRow r;
+    r.subject = t.cell(i, t.column("subject"));
+    r.controller = t.cell(i, t.column("controller"));
+    r.at.design = static_cast<int>(t.integer(i, t.column("design")));
+    r.at.p1_kPa = t.number(i, t.column("p1_kPa"));
+    r.at.p2_kPa = t.number(i, t.column("p2_kPa"));
     r.condition = t.cell(i, t.column("condition"));
     r.mean_return = t.number(i, t.column("mean_return"));
     r.std_return = t.number(i, t.column("std_return"));
@@ -52,35 +67,107 @@ std::vector<VerifyRow> read_rows(const fs::path& csv) {
   return rows;
 }
 
-std::string report(const VerifySummary& s, const std::vector<VerifyCondition>& suite, const std::string& run_dir) {
-  std::ostringstream o;
-  const VerifyRow* nominal = s.rows.empty() ? nullptr : &s.rows.front();
-  o << "# verify: " << run_dir << "\n\n";
-  if (nominal) {
-    double worst = nominal->mean_return;
-    std::string worst_name = nominal->condition;
-    for (const VerifyRow& r : s.rows)
-      if (r.mean_return < worst) worst = r.mean_return, worst_name = r.condition;
-    char line[256];
-    std::snprintf(line, sizeof line,
-                  "The final policy on d* = %s tracks to %.1f of 50 on the nominal model and to %.1f at worst "
-                  "(%s) over the held-out physics below.\n\n",
-                  fem::design_label(s.design).c_str(), nominal->mean_return, worst, worst_name.c_str());
-    o << line;
+std::string row_line(const VerifyRow& r) {
+  return r.subject + ',' + r.controller + ',' + std::to_string(r.at.design) + ',' + num(r.at.p1_kPa) + ',' +
+         num(r.at.p2_kPa) + ',' + r.condition + ',' + num(r.mean_return) + ',' + num(r.std_return) + ',' +
+         num(r.ci95) + ',' + num(r.band_fraction) + ',' + std::to_string(r.episodes);
+}
+
+DesignAtPressures at_of(const ResultDesign& d) { return {d.setup.design, d.setup.p1_kPa, d.setup.p2_kPa}; }
+
+// The run's designs in its own order, best first: its `evaluate` ranking of the final state when
+// it has one, else the final state's distribution by probability.
+std::vector<DesignAtPressures> run_order(const RunSettings& settings, const fs::path& dir, std::string& from) {
+  std::vector<DesignAtPressures> out;
+  const fs::path ranking = dir / run_file::kEvaluateDir / "final" / "ranking.csv";
+  std::error_code ec;
+  if (fs::exists(ranking, ec)) {
+    const io::CsvTable t = io::read_csv(ranking.string());
+    for (std::size_t i = 0; i < t.rows(); ++i)
+      out.push_back({static_cast<int>(t.integer(i, t.column("design"))), t.number(i, t.column("p1_kPa")),
+                     t.number(i, t.column("p2_kPa"))});
+    from = "run's evaluate ranking (evaluate/final/ranking.csv)";
+    return out;
   }
-  o << "d* = " << fem::design_label(s.design) << " at p = [" << num(s.p1_kPa) << ", " << num(s.p2_kPa)
-    << "] kPa, the run's final policy; each condition over " << (nominal ? nominal->episodes : 0)
-    << " test plate phases 2π(k + ½)/n; return = Σ of the 50 decisions' rewards (max 50 for the force term); "
-       "mean ± std and the 95 % interval of the mean (1.96 s/√n).\n\n"
-    << "| condition | what it is | return (mean ± std) | 95 % interval | decisions in band |\n|---|---|---|---|---|\n";
-  for (std::size_t i = 0; i < s.rows.size(); ++i) {
-    const VerifyRow& r = s.rows[i];
-    char cells[200];
-    std::snprintf(cells, sizeof cells, "%.2f ± %.2f | [%.2f, %.2f] | %.0f %%", r.mean_return, r.std_return,
-                  r.mean_return - r.ci95, r.mean_return + r.ci95, 100.0 * r.band_fraction);
-    o << "| " << r.condition << " | " << suite[i].what << " | " << cells << " |\n";
+  for (const StateDesign& d : state_designs(settings, dir.string(), "final")) out.push_back({d.design, d.p1_kPa, d.p2_kPa});
+  from = "final design distribution by probability";
+  return out;
+}
+
+std::string run_name(const std::string& dir) {
+  fs::path p = fs::path(dir).lexically_normal();
+  if (p.filename().empty()) p = p.parent_path();
+  return p.filename().string();
+}
+
+// verify.dat (a block per subject: condition index, mean, 95 % half-width) and verify.png.
+std::string draw_figure(const fs::path& folder, const std::string& plots_dir, const VerifySummary& s,
+                        const std::vector<VerifyCondition>& suite, const std::string& run) {
+  io::write_file_atomically((folder / "verify.dat").string(), [&](std::ostream& out) {
+    for (const VerifySubject& sub : s.subjects) {
+      out << "# " << sub.name << " " << fem::design_label(sub.at.design) << " " << sub.controller << "\n";
+      for (std::size_t c = 0; c < suite.size(); ++c)
+        for (const VerifyRow& r : s.rows)
+          if (r.subject == sub.name && r.condition == suite[c].name)
+            out << c << ' ' << num(r.mean_return) << ' ' << num(r.ci95) << '\n';
+      out << "\n\n";
+    }
+  });
+  if (plots_dir.empty()) return "no plots folder given";
+  const fs::path script = fs::path(plots_dir) / "verify.gp";
+  if (!fs::exists(script)) return script.string() + " not found";
+  std::string subjects, conditions;
+  for (const VerifySubject& sub : s.subjects)
+  {
+    if (!subjects.empty()) subjects += ' ';
+    subjects += sub.name;
+    if (sub.controller == kControllerPolicy) subjects += "(j" + std::to_string(sub.at.design) + ")";
   }
-  return o.str();
+  for (const VerifyCondition& c : suite) {
+    if (!conditions.empty()) conditions += ' ';
+    for (const char ch : c.name) conditions += ch == '%' ? std::string("%%") : std::string(1, ch);  // tic labels are formats
+  }
+  io::GnuplotCall call;
+  call.script = script.string();
+  call.set("plotsdir", plots_dir);
+  call.set("datafile", (folder / "verify.dat").string());
+  call.set("outfile", (folder / "verify.png").string());
+  call.set("subjects", subjects);
+  call.set("conditions", conditions);
+  call.set("title", "verify " + run + ": return per held-out condition, mean ± 95 % interval");
+  const io::GnuplotOutcome r = io::run_gnuplot(call);
+  return r.ok() ? "" : r.message();
+}
+
+// What the run's answers are: d*, the runner-up, its order of designs, other runs' d*.
+SubjectSources subject_sources(const RunSettings& settings, const fs::path& dir, const VerifyOptions& options) {
+  const double pmax = settings.loop.task.pressure_max_kPa;
+  const std::optional<ResultDesign> best = read_result_design(dir, "best", pmax);
+  if (!best) throw InputError((dir / run_file::kResult).string() + ": has no [best] table");
+  SubjectSources sources;
+  sources.best = at_of(*best);
+  if (const auto r = read_result_design(dir, "runner_up", pmax)) sources.runner_up = at_of(*r);
+  sources.next = options.next;
+  sources.single_design = settings.loop.codesign.baseline == core::Baseline::SingleDesign;
+  sources.baselines = options.baselines;
+  if (!sources.single_design && options.next > 0) sources.ranked = run_order(settings, dir, sources.ranked_from);
+  for (const std::string& w : options.with)
+    if (const auto o = read_result_design(w, "best", pmax)) sources.others.emplace_back(run_name(w), at_of(*o));
+  return sources;
+}
+
+// verify.toml: what a verify of the folder is; a folder holding another one is continued only if
+// it matches.
+std::string verify_stamp(const VerifyOptions& options, const std::vector<VerifySubject>& subjects) {
+  std::ostringstream stamp;
+  stamp << "# codesign verify: the run's final policy (and two PIDs on d*) under held-out physics\n"
+        << "phases = " << options.phases << "\n"
+        << "phase_set = \"" << options.phase_set << "\"   # test: 2*pi*(k + 1/2)/phases, validation: 2*pi*(k + 1/4)/phases\n"
+        << "policy_bytes = " << fs::file_size(fs::path(options.dir) / run_file::kPolicy) << "\n";
+  for (const VerifySubject& s : subjects)
+    stamp << "subject = [\"" << s.name << "\", \"" << s.controller << "\", " << s.at.design << ", " << num(s.at.p1_kPa)
+          << ", " << num(s.at.p2_kPa) << "]\n";
+  return stamp.str();
 }
 
 }  // namespace
@@ -110,88 +197,120 @@ std::vector<VerifyCondition> verify_suite() {
 }
 
 VerifySummary verify_run(const VerifyOptions& options) {
+  const auto t_start = std::chrono::steady_clock::now();
   const fs::path dir(options.dir);
   std::error_code ec;
   for (const char* f : {run_file::kConfig, run_file::kResult, run_file::kPolicy})
     if (!fs::exists(dir / f, ec))
       throw InputError((dir / f).string() + ": not found; verify needs a finished co-design run folder");
-  const RunSettings settings = run_settings(read_run_config((dir / run_file::kConfig).string()));
-  const std::optional<ResultDesign> best =
-      read_result_design(dir, "best", settings.loop.task.pressure_max_kPa);
-  if (!best) throw InputError((dir / run_file::kResult).string() + ": has no [best] table");
+  if (options.phase_set != "test" && options.phase_set != "validation")
+    throw InputError("--phase-set: \"" + options.phase_set + "\" is not one of test, validation");
+  for (const std::string& w : options.with)
+    if (!fs::exists(fs::path(w) / run_file::kResult, ec))
+      throw InputError("--with: " + (fs::path(w) / run_file::kResult).string() +
+                       ": not found; each --with folder must be a finished co-design run");
+  const RunConfig config = read_run_config((dir / run_file::kConfig).string());
+  const RunSettings settings = run_settings(config);
+  const core::TaskConfig& task = settings.loop.task;
+  const SubjectSources sources = subject_sources(settings, dir, options);
   const auto policy = std::make_shared<const rl::Policy>(rl::load_policy(dir / run_file::kPolicy));
-
   VerifySummary summary;
+  summary.subjects = verify_subjects(sources);
+
   const fs::path folder = dir / "verify";
   summary.folder = folder.string();
-  summary.design = best->setup.design;
-  summary.p1_kPa = best->setup.p1_kPa;
-  summary.p2_kPa = best->setup.p2_kPa;
   fs::create_directories(folder, ec);
   if (ec) throw InputError(folder.string() + ": cannot create: " + ec.message());
   const io::RunLock lock(folder.string());
 
-  std::ostringstream stamp;
-  stamp << "# codesign verify: the final policy of this run on d* under held-out physics\n"
-        << "design = " << summary.design << "\n"
-        << "pressures_kPa = [" << num(summary.p1_kPa) << ", " << num(summary.p2_kPa) << "]\n"
-        << "phases = " << options.phases << "   # test plate phases 2*pi*(k + 1/2)/phases\n"
-        << "policy_bytes = " << fs::file_size(dir / run_file::kPolicy) << "\n";
   const fs::path csv = folder / "conditions.csv";
-  std::map<std::string, VerifyRow> done;
-  for (const VerifyRow& r : open_resumable_table<VerifyRow>(folder, folder / "verify.toml", csv, stamp.str(), kColumns,
+  std::map<std::pair<std::string, std::string>, VerifyRow> done;
+  for (const VerifyRow& r : open_resumable_table<VerifyRow>(folder, folder / "verify.toml", csv,
+                                                            verify_stamp(options, summary.subjects), kColumns,
                                                             options.force, "a verify", read_rows))
-    done[r.condition] = r;
-  summary.conditions_before = static_cast<int>(done.size());
+    done[{r.subject, r.condition}] = r;
+  summary.cells_before = static_cast<int>(done.size());
+  if (done.empty())
+    for (const char* f : {"report.md", "verify.dat", "verify.png"}) fs::remove(folder / f, ec);
 
-  const core::ControllerFactory controller = core::policy_factory(policy);
   core::EvaluationOptions eo;
   eo.episodes = options.phases;
+  eo.phase_offset = options.phase_set == "test" ? kTestOffset : kValidationOffset;
   eo.threads = options.threads;
   eo.trace_first = false;
   auto nominal_sims = std::make_shared<core::SimulatorPool>(settings.spec, settings.scene, settings.solver);
   std::shared_ptr<core::SimulatorPool> refined_sims;
-  const std::vector<VerifyCondition> suite = verify_suite();
-  for (const VerifyCondition& c : suite) {
-    if (const auto it = done.find(c.name); it != done.end()) {
-      summary.rows.push_back(it->second);
-      continue;
+  const auto sims_for = [&](const VerifyCondition& c) {
+    if (!c.refined_mesh) return nominal_sims;
+    if (!refined_sims) {
+      fem::WhiskerModelSpec spec = settings.spec;
+      spec.mesh.radius_factor = 0.3;
+      spec.mesh.wall_factor = 0.75;
+      spec.mesh.max_size_mm = 3.0;
+      refined_sims = std::make_shared<core::SimulatorPool>(spec, settings.scene, settings.solver);
     }
-    std::shared_ptr<core::SimulatorPool> sims = nominal_sims;
-    if (c.refined_mesh) {
-      if (!refined_sims) {
-        fem::WhiskerModelSpec spec = settings.spec;
-        spec.mesh.radius_factor = 0.3;
-        spec.mesh.wall_factor = 0.75;
-        spec.mesh.max_size_mm = 3.0;
-        refined_sims = std::make_shared<core::SimulatorPool>(spec, settings.scene, settings.solver);
-      }
-      sims = refined_sims;
-    }
-    core::EpisodeSetup setup = best->setup;
-    setup.physics = c.physics;
-    const core::DesignEvaluation e = core::evaluate_feedback(controller, sims, settings.loop.task, setup, eo);
-    VerifyRow r;
-    r.condition = c.name;
-    r.mean_return = e.mean_return;
-    r.std_return = e.std_return;
-    r.ci95 = core::ci95_of_mean(e);
-    r.band_fraction = e.mean_band_fraction;
-    r.episodes = options.phases;
-    std::ofstream out(csv, std::ios::binary | std::ios::app);
-    out << r.condition << ',' << num(r.mean_return) << ',' << num(r.std_return) << ',' << num(r.ci95) << ','
-        << num(r.band_fraction) << ',' << r.episodes << '\n';
-    if (!out.flush()) throw InputError(csv.string() + ": cannot write (disk full?)");
-    summary.rows.push_back(r);
-    ++summary.conditions_run;
+    return refined_sims;
+  };
+  // The PIDs are tuned once, on the nominal model's tuning phases, only if a cell still needs them.
+  std::map<std::string, core::ControllerFactory> pids;
+  const auto controller_for = [&](const VerifySubject& s) -> core::ControllerFactory {
+    if (s.controller == kControllerPolicy) return core::policy_factory(policy);
+    if (const auto it = pids.find(s.controller); it != pids.end()) return it->second;
+    const core::PidSignal signal =
+        s.controller == kControllerPidForce ? core::PidSignal::Force : core::PidSignal::Estimate;
+    const core::EpisodeSetup setup{s.at.design, s.at.p1_kPa, s.at.p2_kPa, 0.0, 0.0};
+    const core::PidTuningResult t = core::tune_whisker_pid(nominal_sims, task, setup, signal, config.pid, options.threads);
     if (options.progress) {
-      std::printf("verify: %-13s %6.2f +- %.2f (95 %% interval +- %.2f)\n", r.condition.c_str(), r.mean_return,
-                  r.std_return, r.ci95);
+      std::printf("verify: %-13s tuned on %d nominal tuning phases: kp %.4g ki %.4g kd %.4g (tuning return %.2f)\n",
+                  s.controller.c_str(), config.pid.tuning_phases, t.pid.gains.kp, t.pid.gains.ki, t.pid.gains.kd,
+                  t.tuning_return);
       std::fflush(stdout);
     }
+    return pids[s.controller] = core::pid_factory(t.pid, task);
+  };
+
+  const std::vector<VerifyCondition> suite = verify_suite();
+  for (const VerifySubject& s : summary.subjects) {
+    core::ControllerFactory controller;
+    for (const VerifyCondition& c : suite) {
+      if (const auto it = done.find({s.name, c.name}); it != done.end()) {
+        summary.rows.push_back(it->second);
+        continue;
+      }
+      if (!controller) controller = controller_for(s);
+      core::EpisodeSetup setup{s.at.design, s.at.p1_kPa, s.at.p2_kPa, 0.0, 0.0};
+      setup.physics = c.physics;
+      const core::DesignEvaluation e = core::evaluate_feedback(controller, sims_for(c), task, setup, eo);
+      VerifyRow r{s.name, s.controller, s.at, c.name, e.mean_return, e.std_return, core::ci95_of_mean(e),
+                  e.mean_band_fraction, options.phases};
+      std::ofstream out(csv, std::ios::binary | std::ios::app);
+      out << row_line(r) << '\n';
+      if (!out.flush()) throw InputError(csv.string() + ": cannot write (disk full?)");
+      summary.rows.push_back(r);
+      ++summary.cells_run;
+      summary.episodes_run += options.phases;
+      if (options.progress) {
+        std::printf("verify: %-15s %-13s %6.2f +- %.2f (95 %% interval +- %.2f)\n", s.name.c_str(), c.name.c_str(),
+                    r.mean_return, r.std_return, r.ci95);
+        std::fflush(stdout);
+      }
+    }
   }
-  io::write_file_atomically((folder / "report.md").string(),
-                            [&](std::ostream& out) { out << report(summary, suite, options.dir); });
+
+  VerifyReportInput in;
+  in.run = options.dir;
+  in.phase_set = options.phase_set;
+  in.phases = options.phases;
+  in.subjects = summary.subjects;
+  for (const VerifyCondition& c : suite) in.conditions.emplace_back(c.name, c.what);
+  in.rows = summary.rows;
+  if (sources.single_design)
+    in.notes = "The run trained d* alone (codesign.baseline = \"single_design\"): its policy is tested on no other design.";
+  else if (!sources.ranked_from.empty())
+    in.notes = "The next designs come from the " + sources.ranked_from + ".";
+  io::write_file_atomically((folder / "report.md").string(), [&](std::ostream& out) { out << verify_report(in); });
+  summary.figure_message = draw_figure(folder, options.plots_dir, summary, suite, run_name(options.dir));
+  summary.wall_s = seconds_since(t_start);
   return summary;
 }
 

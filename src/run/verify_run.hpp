@@ -1,27 +1,40 @@
 #pragma once
 // `codesign verify --run RUN` (docs/verify.md): a certificate of a finished co-design run for the
-// robot it is meant for. This part tests the run's final policy on d* at p* under a fixed suite
-// of held-out physics — nominal; Young's modulus ±20 %; the refined mesh; plate amplitude ×0.5
-// and ×1.5; strain gain ±10 %; strain noise — each over `phases` test plate phases
-// 2π(k + ½)/phases, and writes RUN/verify/: conditions.csv (a row per condition, appended as each
-// finishes, so a stopped verify resumes), verify.toml (what was verified) and report.md.
+// robot it is meant for. The run's final policy on d* at p*, on the runner-up, on the next designs
+// of the run's own order and on two bodies outside that group (verify_subjects.hpp), on the d* of
+// other runs (`with`), and two PIDs on d* tuned on nominal tuning phases — each under a fixed
+// suite of held-out physics: nominal; Young's modulus ±20 %; the refined mesh; plate amplitude
+// ×0.5 and ×1.5; strain gain ±10 %; strain noise. Each cell runs `phases` plate phases: the test
+// phases 2π(k + ½)/phases, or the validation phases 2π(k + ¼)/phases that experiments compare
+// settings on, so that the test phases stay held out.
+//
+// RUN/verify/: conditions.csv (a row per subject and condition, appended as each finishes, so a
+// stopped verify resumes), verify.toml (what was verified), report.md (verify_report.hpp),
+// verify.dat and verify.png (each subject's return per condition with its 95 % interval).
 #include <cstddef>
 #include <string>
 #include <vector>
 
 #include "core/physics_randomization.hpp"
+#include "run/verify_report.hpp"
+#include "run/verify_subjects.hpp"
 
 namespace codesign::run {
 
 struct VerifyOptions {
   std::string dir;          // the run folder
-  int phases = 100;         // test episodes per condition
+  int phases = 100;         // episodes per subject and condition
+  std::string phase_set = "test";  // "test" or "validation"
+  int next = 2;             // designs of the run's order after d* and the runner-up
+  bool baselines = true;    // the two PIDs on d*
+  std::vector<std::string> with;   // other run folders whose d* this run's policy is tested on
   std::size_t threads = 0;  // 0: all cores
   bool force = false;       // replace a verify of the run made with other settings
   bool progress = true;
+  std::string plots_dir;    // folder of verify.gp ("": no figure)
 };
 
-// One held-out condition: a physics draw applied to every test episode, or the refined mesh.
+// One held-out condition: a physics draw applied to every episode, or the refined mesh.
 struct VerifyCondition {
   std::string name;
   std::string what;  // one line for the report
@@ -31,21 +44,18 @@ struct VerifyCondition {
 // The suite, in the order the report lists it.
 std::vector<VerifyCondition> verify_suite();
 
-struct VerifyRow {
-  std::string condition;
-  double mean_return = 0.0, std_return = 0.0, ci95 = 0.0, band_fraction = 0.0;
-  int episodes = 0;
-};
-
 struct VerifySummary {
-  std::string folder;           // RUN/verify
-  int design = 0;               // d*
-  double p1_kPa = 0.0, p2_kPa = 0.0;
-  std::vector<VerifyRow> rows;  // in suite order
-  int conditions_run = 0, conditions_before = 0;
+  std::string folder;            // RUN/verify
+  std::vector<VerifySubject> subjects;
+  std::vector<VerifyRow> rows;   // subject-major, suite order within a subject
+  int cells_run = 0, cells_before = 0;
+  int episodes_run = 0;          // episodes of the cells run now (the PIDs' tuning not counted)
+  double wall_s = 0.0;           // of this call
+  std::string figure_message;    // why verify.png was not drawn ("" when it was)
 };
 
-// Throws InputError naming the file: no run folder, config.toml, result.toml or policy.bin; a
+// Throws InputError naming the file or flag: no run folder, config.toml, result.toml or
+// policy.bin; a `with` folder without result.toml; a phase set other than test/validation; a
 // folder holding a verify with other settings (without force).
 VerifySummary verify_run(const VerifyOptions& options);
 

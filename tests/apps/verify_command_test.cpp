@@ -1,7 +1,8 @@
-// `codesign verify` on a tiny finished run: its nominal condition at the run's own test phases
-// reproduces result.toml's [best] test return to the bit (the same deterministic episodes); every
-// condition of the suite gets a row; a second call resumes with nothing left to run; a folder
-// that is no finished run is one clear message and exit 2.
+// `codesign verify` on a tiny finished run: the nominal cells of d* and the runner-up at the run's
+// own test phases reproduce result.toml's test returns to the bit (the same deterministic
+// episodes); every subject gets a row per condition of the suite; the force PID is blind to the
+// gauge; a second call resumes with nothing left to run; other settings are refused without
+// --force; a folder that is no finished run is one clear message and exit 2.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -23,12 +24,21 @@ namespace fs = std::filesystem;
 using codesign::test::run_codesign;
 using codesign::test::slurp;
 
-// The value of `key = ` in the [best] table of result.toml.
-std::string best_value(const std::string& result, const std::string& key) {
-  const std::size_t table = result.find("[best]");
-  const std::size_t at = result.find("\n" + key + " = ", table);
+// The value of `key = ` in table `table` of result.toml.
+std::string result_value(const std::string& result, const std::string& table, const std::string& key) {
+  const std::size_t at = result.find("\n" + key + " = ", result.find("[" + table + "]"));
   const std::size_t from = at + key.size() + 4;
   return result.substr(from, result.find_first_of(" \n", from) - from);
+}
+
+// The mean_return cell of (subject, condition) in conditions.csv ("" if absent).
+std::string mean_cell(const std::string& csv, const std::string& subject, const std::string& condition) {
+  std::istringstream in(csv);
+  for (std::string line; std::getline(in, line);) {
+    const std::vector<std::string> c = codesign::test::csv_cells(line);
+    if (c.size() > 6 && c[0] == subject && c[5] == condition) return c[6];
+  }
+  return "";
 }
 
 TEST(VerifyCommand, NominalReproducesTheRunsTestAndTheSuiteResumes) {
@@ -48,19 +58,40 @@ TEST(VerifyCommand, NominalReproducesTheRunsTestAndTheSuiteResumes) {
 
   r = run_codesign("verify --run " + run.string() + " --phases 2 --threads 2");
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("verify: 9 conditions run now, 0 before"), std::string::npos) << r.output;
+  const std::string stamp = slurp(run / "verify" / "verify.toml");
+  std::size_t subjects = 0;
+  for (std::size_t at = stamp.find("\nsubject = "); at != std::string::npos; at = stamp.find("\nsubject = ", at + 1))
+    ++subjects;
+  // d*, the runner-up, two next designs, two outside bodies and the two PIDs.
+  EXPECT_EQ(subjects, 8u) << stamp;
+  const std::size_t cells = subjects * codesign::run::verify_suite().size();
+  EXPECT_NE(r.output.find("verify: " + std::to_string(cells) + " cells run now, 0 before"), std::string::npos)
+      << r.output;
   const std::string csv = slurp(run / "verify" / "conditions.csv");
-  const std::size_t rows = static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')) - 1;
-  EXPECT_EQ(rows, codesign::run::verify_suite().size());
-  // Both print doubles to round-trip exactly, so equal text is the same number.
-  const std::string nominal = csv.substr(csv.find("\nnominal,") + 9);
-  EXPECT_EQ(nominal.substr(0, nominal.find(',')), best_value(slurp(run / "result.toml"), "test_return"));
-  EXPECT_TRUE(fs::exists(run / "verify" / "report.md"));
+  EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')) - 1, cells);
+  // Both print doubles to round-trip exactly, so equal text is the same number: the nominal cells
+  // of d* and the runner-up are the run's own final tests (same policy, pressures and phases).
+  const std::string result = slurp(run / "result.toml");
+  EXPECT_EQ(mean_cell(csv, "d*", "nominal"), result_value(result, "best", "test_return"));
+  EXPECT_EQ(mean_cell(csv, "runner_up", "nominal"), result_value(result, "runner_up", "test_return"));
+  // The force PID reads the true contact force: the gauge's gain and noise cannot change it.
+  for (const char* c : {"gain_-10%", "gain_+10%", "strain_noise"})
+    EXPECT_EQ(mean_cell(csv, "pid_force", c), mean_cell(csv, "pid_force", "nominal")) << c;
+  const std::string report = slurp(run / "verify" / "report.md");
+  for (const auto& s : codesign::run::verify_suite())
+    EXPECT_NE(report.find("\n- " + s.name + ": d* (j"), std::string::npos) << s.name << "\n" << report;
+  EXPECT_TRUE(fs::exists(run / "verify" / "verify.png")) << r.output;
 
   r = run_codesign("verify --run " + run.string() + " --phases 2");
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("verify: 0 conditions run now, 9 before"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("verify: 0 cells run now, " + std::to_string(cells) + " before"), std::string::npos)
+      << r.output;
   EXPECT_EQ(slurp(run / "verify" / "conditions.csv"), csv);
+
+  // The validation phase set is another verify of the folder.
+  r = run_codesign("verify --run " + run.string() + " --phases 2 --phase-set validation --next 0 --no-baselines");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("holds a verify with other settings"), std::string::npos) << r.output;
 
   // Other settings on the same folder: refused without --force, nothing changed.
   r = run_codesign("verify --run " + run.string() + " --phases 3");

@@ -3,7 +3,7 @@
 // scale every force of the equations of motion (elastic, fibre, inertial, Rayleigh and gravity
 // alike), so the body moves exactly as the nominal one and every contact force is s times the
 // nominal; the gauge's gain scales the tared strain the policy sees; a delayed actuation turns the
-// base one decision late.
+// base one decision late; the inflation cue is the gauge's two-point reading, offset-free.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -85,6 +85,50 @@ TEST(WhiskerEnvPhysics, DelayedActuationTurnsTheBaseOneDecisionLate) {
   EXPECT_EQ(a[0].theta_rad, 0.0);  // the first command is still on its way
   EXPECT_NEAR(a[1].theta_rad, 0.5 * task.theta_max_rad, 1e-12);
   EXPECT_NEAR(a[2].theta_rad, 2 * 0.5 * task.theta_max_rad, 1e-12);
+}
+
+// The inflation cue (TaskConfig::stiffness_cue = "inflation"), last component, unscaled back to
+// the reading g (ε(p) − ε(0)).
+double inflation_reading(const Reading& r, const TaskConfig& task) {
+  return (r.obs[r.obs.size() - 1] + 1.0) * task.strain_max / 2.0;
+}
+
+TEST(WhiskerEnvPhysics, InflationCueIsTheGaugesTwoPointReadingAndTracksStiffness) {
+  TaskConfig task;
+  task.stiffness_cue = StiffnessCue::Inflation;
+  EXPECT_EQ(observation_dim(task), observation_dim(TaskConfig{}) + 1);
+  const EpisodeSetup nominal{21, 10.0, 0.0, 1.0, 0.0};
+  const std::vector<Reading> a = run(nominal, 0.2, task);
+  ASSERT_GE(a.size(), 2u);
+  const double reading = inflation_reading(a[0], task);
+  EXPECT_GT(reading, 0.0);  // inflating lengthens the chamber
+  EXPECT_EQ(a.back().obs[a.back().obs.size() - 1], a[0].obs[a[0].obs.size() - 1]);  // constant in an episode
+
+  // The gauge's offset cancels and its gain scales the reading (round-off of 1e-16 · 0.003).
+  EpisodeSetup gauge = nominal;
+  gauge.physics.strain_gain = 1.1;
+  gauge.physics.strain_offset = 0.003;
+  EXPECT_NEAR(inflation_reading(run(gauge, 0.2, task)[0], task), 1.1 * reading, 1e-12);
+
+  // E, mass and fibres ×1.2 at 12 kPa are the nominal equations at 10 kPa times 1.2 (every force
+  // scales, gravity too): the same strains, so the same reading up to the solvers' tolerances
+  // (CG to 1e-8 relative). At 10 kPa the stiffer body reads less.
+  EpisodeSetup stiff = nominal;
+  stiff.physics.youngs_scale = stiff.physics.mass_scale = stiff.physics.fibre_scale = 1.2;
+  EXPECT_LT(inflation_reading(run(stiff, 0.2, task)[0], task), reading);
+  stiff.p1_kPa = 12.0;
+  EXPECT_NEAR(inflation_reading(run(stiff, 0.2, task)[0], task), reading, 1e-6 * reading);
+}
+
+TEST(WhiskerEnvPhysics, TrueModulusCueIsTheDrawnScaleOnTheRandomizedRange) {
+  TaskConfig task;
+  task.stiffness_cue = StiffnessCue::TrueModulus;
+  task.randomize.youngs_modulus = 0.25;
+  EpisodeSetup soft{21, 10.0, 0.0, 1.0, 0.0};
+  soft.physics.youngs_scale = 0.8;
+  const std::vector<Reading> a = run(soft, 0.2, task);
+  // 0.8 on [0.75, 1.25] → 2 (0.8 − 0.75) / 0.5 − 1 = −0.8.
+  EXPECT_NEAR(a[0].obs[a[0].obs.size() - 1], -0.8, 1e-12);
 }
 
 }  // namespace
