@@ -217,7 +217,8 @@ VerifySummary verify_run(const VerifyOptions& options) {
   VerifySummary summary;
   summary.subjects = verify_subjects(sources);
 
-  const fs::path folder = dir / "verify";
+  // Validation phases get a folder of their own: an experiment may choose on them beside a test.
+  const fs::path folder = dir / (options.phase_set == "test" ? "verify" : "verify_validation");
   summary.folder = folder.string();
   fs::create_directories(folder, ec);
   if (ec) throw InputError(folder.string() + ": cannot create: " + ec.message());

@@ -8,7 +8,7 @@
 // phases 2π(k + ½)/phases, or the validation phases 2π(k + ¼)/phases that experiments compare
 // settings on, so that the test phases stay held out.
 //
-// RUN/verify/: conditions.csv (a row per subject and condition, appended as each finishes, so a
+// RUN/verify/ (RUN/verify_validation/ for the validation phases): conditions.csv (a row per subject and condition, appended as each finishes, so a
 // stopped verify resumes), verify.toml (what was verified), report.md (verify_report.hpp),
 // verify.dat and verify.png (each subject's return per condition with its 95 % interval).
 #include <cstddef>
