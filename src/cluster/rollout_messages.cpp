@@ -19,7 +19,8 @@ std::vector<double> pack_setups(const std::vector<core::EpisodeSetup>& setups, s
                        d.plate_height_offset_mm, d.pressure_scale_1, d.pressure_scale_2, d.strain_gain,
                        d.strain_offset, d.strain_noise, d.encoder_noise_rad, d.actuation_delay ? 1.0 : 0.0,
                        // the 64-bit noise seed in two exact 32-bit halves
-                       static_cast<double>(d.noise_seed >> 32), static_cast<double>(d.noise_seed & 0xFFFFFFFFULL)});
+                       static_cast<double>(d.noise_seed >> 32), static_cast<double>(d.noise_seed & 0xFFFFFFFFULL),
+                       d.wall_offset_mm});
   }
   return v;
 }
@@ -53,6 +54,7 @@ std::vector<core::EpisodeSetup> unpack_setups(const std::vector<double>& v) {
       return static_cast<std::uint64_t>(x);
     };
     d.noise_seed = half(f[20]) << 32 | half(f[21]);
+    d.wall_offset_mm = f[22];
   }
   return out;
 }

@@ -15,7 +15,7 @@
 namespace codesign::cluster {
 
 // design, p1, p2, plate phase, theta0, fault, then the physics draw (16 numbers)
-inline constexpr std::size_t kSetupFields = 22;
+inline constexpr std::size_t kSetupFields = 23;
 inline constexpr std::size_t kStepFields = 5;   // reward, terminated, truncated, in-band count, has terminal obs
 
 // setups[first, first + count) as count · kSetupFields numbers.

@@ -35,6 +35,9 @@ PhysicsDraw draw_physics(const RandomizeConfig& c, std::uint64_t seed, std::int6
   d.encoder_noise_rad = c.encoder_noise_deg * std::numbers::pi / 180.0;
   d.actuation_delay = c.actuation_delay;
   d.noise_seed = rng.next_u64();
+  // Drawn after the others, so that the table's earlier draws are what they were before it.
+  const double u = rng.uniform();
+  d.wall_offset_mm = c.wall_mm == 0.0 ? 0.0 : u < 1.0 / 3.0 ? -c.wall_mm : u < 2.0 / 3.0 ? 0.0 : c.wall_mm;
   return d;
 }
 

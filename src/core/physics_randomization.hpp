@@ -36,12 +36,15 @@ struct RandomizeConfig {
   double encoder_noise_deg = 0.0;  // on the base angle θ where it is observed
   // The policy's action reaches the base one decision late.
   bool actuation_delay = false;
+  // Casting tolerance of the wall: the body is cast with the wall w + δ, δ one of {−r, 0, +r}
+  // (three mesh levels per design, each meshed once).
+  double wall_mm = 0.0;
 
   // Whether any draw differs from the nominal physics.
   bool enabled() const {
     return youngs_modulus > 0 || fibre_stiffness > 0 || damping > 0 || mass > 0 || plate_amplitude > 0 ||
            plate_frequency > 0 || pressure_error > 0 || strain_gain > 0 || plate_height_mm > 0 || strain_offset > 0 ||
-           strain_noise > 0 || encoder_noise_deg > 0 || actuation_delay;
+           strain_noise > 0 || encoder_noise_deg > 0 || actuation_delay || wall_mm > 0;
   }
 };
 
@@ -55,6 +58,7 @@ struct PhysicsDraw {
   double strain_noise = 0.0, encoder_noise_rad = 0.0;
   bool actuation_delay = false;
   std::uint64_t noise_seed = 0;  // the episode's per-decision noise stream
+  double wall_offset_mm = 0.0;   // the cast wall is the design's w + this
 
   // The draw with the sensors and the actuation nominal: what the simulation depends on (the key
   // of the environment's caches of ε₀ and of the settled state).
@@ -64,6 +68,7 @@ struct PhysicsDraw {
     d.mass_scale = mass_scale, d.plate_amplitude_scale = plate_amplitude_scale;
     d.plate_frequency_scale = plate_frequency_scale, d.plate_height_offset_mm = plate_height_offset_mm;
     d.pressure_scale_1 = pressure_scale_1, d.pressure_scale_2 = pressure_scale_2;
+    d.wall_offset_mm = wall_offset_mm;
     return d;
   }
   fem::BodyScale body() const { return {youngs_scale, mass_scale, damping_scale, fibre_scale}; }
@@ -107,6 +112,10 @@ void describe_randomize_table(V& v, RandomizeConfig& c) {
   v.number({"encoder_noise_deg", "deg", "standard deviation of the observed base angle's noise per decision"},
            c.encoder_noise_deg, {0.0, 5.0});
   v.boolean({"actuation_delay", "", "the action reaches the base one decision late"}, c.actuation_delay);
+  v.number({.name = "wall_mm", .unit = "mm",
+            .meaning = "casting tolerance of the wall: it is w − r, w or w + r (three mesh levels)",
+            .written = config::Written::UnlessDefault, .at_default = c.wall_mm == RandomizeConfig{}.wall_mm},
+           c.wall_mm, {0.0, 0.25});
 }
 
 }  // namespace codesign::core

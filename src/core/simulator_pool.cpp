@@ -46,6 +46,24 @@ std::shared_ptr<const fem::Model> SimulatorPool::model(int design) {
   return m;
 }
 
+std::shared_ptr<const fem::Model> SimulatorPool::cast_model(int design, double wall_offset_mm) {
+  if (wall_offset_mm == 0.0) return model(design);
+  check_design(design);
+  const std::pair<int, double> key{design, wall_offset_mm};
+  std::lock_guard<std::mutex> build(cast_build_mutex_);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (const auto it = cast_.find(key); it != cast_.end()) return it->second;
+  }
+  fem::Design d = fem::design_from_index(design);
+  d.wall_mm += wall_offset_mm;
+  const double t0 = thread_cpu_seconds();
+  std::shared_ptr<const fem::Model> m = fem::build_whisker_model(d, spec_);
+  std::lock_guard<std::mutex> lock(mutex_);
+  built_.seconds += thread_cpu_seconds() - t0;
+  return cast_[key] = std::move(m);
+}
+
 void SimulatorPool::store(int design, std::shared_ptr<const fem::Model> m, double seconds, bool adopted) {
   std::lock_guard<std::mutex> lock(mutex_);
   models_[design] = std::move(m);

@@ -24,8 +24,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <memory>
 #include <mutex>
+#include <utility>
 #include <vector>
 
 #include "fem/simulator.hpp"
@@ -46,6 +48,10 @@ class SimulatorPool {
   // pool has the model already; returns whether it built it. Throws std::out_of_range for a bad
   // index and what whisker_model_from_mesh throws.
   bool adopt_mesh(int design, fem::TetMesh mesh);
+  // The model of the design cast with its wall thicker by `wall_offset_mm` (negative: thinner;
+  // 0: model(design)), meshed here on first use and kept for the pool's life: [randomize] wall_mm
+  // asks for two such levels per design at most. Throws what build_whisker_model throws.
+  std::shared_ptr<const fem::Model> cast_model(int design, double wall_offset_mm);
   bool has_model(int design) const;
   // The designs this pool has meshed itself (not adopted) since the last call, in that order.
   std::vector<int> take_meshed();
@@ -114,6 +120,9 @@ class SimulatorPool {
   std::vector<std::unique_ptr<std::mutex>> build_mutex_;               // per design
   BuildStats built_;
   std::vector<int> meshed_;  // meshed here since the last take_meshed()
+  // cast_model's models by (design, wall offset), built one at a time.
+  std::map<std::pair<int, double>, std::shared_ptr<const fem::Model>> cast_;
+  std::mutex cast_build_mutex_;
 };
 
 }  // namespace codesign::core

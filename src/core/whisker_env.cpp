@@ -110,7 +110,7 @@ void WhiskerEnv::take_simulator() {
   if (draw == PhysicsDraw{}) {
     sim_ = pool_->acquire(setup_.design);
   } else {
-    const std::shared_ptr<const fem::Model> nominal = pool_->model(setup_.design);
+    const std::shared_ptr<const fem::Model> nominal = pool_->cast_model(setup_.design, draw.wall_offset_mm);
     sim_ = std::make_unique<fem::Simulator>(draw.body().nominal() ? nominal : fem::scaled_model(*nominal, draw.body()),
                                             draw.scene(pool_->scene()), pool_->solver());
   }

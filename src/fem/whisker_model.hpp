@@ -23,6 +23,10 @@ struct WhiskerModelSpec {
 // Throws std::out_of_range for a bad index and std::invalid_argument / std::runtime_error when
 // the geometry cannot be meshed.
 std::shared_ptr<const Model> build_whisker_model(int design_index, const WhiskerModelSpec& spec);
+// The same for a design given by its values, on the grid or off it (a cast wall thicker or thinner
+// than drawn: core::PhysicsDraw::wall_offset_mm). Throws what meshing throws for a geometry that
+// cannot be meshed.
+std::shared_ptr<const Model> build_whisker_model(const Design& design, const WhiskerModelSpec& spec);
 
 // The model of design `design_index` from its mesh: fibre layout and build_model, the steps
 // build_whisker_model takes after meshing. Given the mesh that mesh_whisker makes for the design

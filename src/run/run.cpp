@@ -109,7 +109,7 @@ Session::Session(const RunSettings& settings, const RunOptions& options)
       wall_before_s_(restore(loop_, checkpoint_, dir_)),
       logs_(dir_, checkpoint_ ? &checkpoint_->logs : nullptr,
             settings.loop.codesign.distribution.beta_schedule == core::BetaSchedule::Entropy,
-            settings.loop.task.randomize.enabled()),
+            settings.loop.task.randomize.enabled(), settings.loop.task.randomize.wall_mm > 0.0),
       // Training episodes ended by a numerical failure so far (episodes.csv holds those before a resume).
       numerical_failures_(RunLogs::numerical_failures_logged(dir_)),
       telemetry_(options.telemetry_url, options.telemetry_train_every),

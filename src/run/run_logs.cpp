@@ -52,7 +52,7 @@ std::optional<std::uint64_t> position(const fs::path& dir, const std::string& na
   return it->second;
 }
 
-std::vector<std::string> episode_columns(bool physics) {
+std::vector<std::string> episode_columns(bool physics, bool walls) {
   std::vector<std::string> c{"t", "k", "j", "n", "l_mm", "w_mm", "p1_kPa", "p2_kPa", "phase_rad", "return",
                              "decisions", "in_band", "first"};
   if (physics)
@@ -60,6 +60,7 @@ std::vector<std::string> episode_columns(bool physics) {
                              "plate_frequency_scale", "plate_height_offset_mm", "p1_scale", "p2_scale", "strain_gain",
                              "strain_offset", "strain_noise", "encoder_noise_rad", "actuation_delay"})
       c.emplace_back(name);
+  if (walls) c.emplace_back("wall_offset_mm");
   c.emplace_back("reason");  // last: numerical_failures_logged reads it there
   return c;
 }
@@ -67,10 +68,10 @@ std::vector<std::string> episode_columns(bool physics) {
 }  // namespace
 
 RunLogs::RunLogs(const fs::path& dir, const std::map<std::string, std::uint64_t>* resume, bool target_entropy,
-                 bool physics)
-    : physics_(physics) {
+                 bool physics, bool walls)
+    : physics_(physics), walls_(walls) {
   const std::vector<std::pair<std::string, std::vector<std::string>>> logs{
-      {run_file::kEpisodes, episode_columns(physics)},
+      {run_file::kEpisodes, episode_columns(physics, walls)},
       {run_file::kPpo,
        {"k", "t", "pg_loss", "value_loss", "entropy_loss", "loss", "approx_kl", "clip_fraction",
         "explained_variance", "lr", "ent_coef", "epochs", "early_stopped", "grad_norm", "collect_s", "update_s",
@@ -102,6 +103,7 @@ void RunLogs::write_iteration(const core::IterationReport& rep, const core::Desi
                              num(p.pressure_scale_1), num(p.pressure_scale_2), num(p.strain_gain),
                              num(p.strain_offset), num(p.strain_noise), num(p.encoder_noise_rad),
                              num(p.actuation_delay ? 1 : 0)});
+      if (walls_) row.push_back(num(p.wall_offset_mm));
     }
     row.push_back(e.reason);
     episodes_->row(row);

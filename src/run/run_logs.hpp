@@ -22,9 +22,10 @@ class RunLogs {
   // fails leaves every file as it was. distribution.csv has a target_entropy column after entropy
   // under the entropy schedule; under the ramp its columns are those of runs from before the
   // schedule existed. physics: episodes.csv carries each episode's physics draw (physics_columns(),
-  // before the reason, which stays last), for runs under [randomize].
+  // before the reason, which stays last), for runs under [randomize]; walls: and the cast wall's
+  // offset after them, for runs that draw it.
   RunLogs(const std::filesystem::path& dir, const std::map<std::string, std::uint64_t>* resume, bool target_entropy,
-          bool physics = false);
+          bool physics = false, bool walls = false);
 
   // The rows of one iteration: its episodes, its PPO update, the distribution after it (its
   // summary and every design's q_disc) and the designs it sampled with their q_cont after it.
@@ -39,7 +40,7 @@ class RunLogs {
   static std::int64_t numerical_failures_logged(const std::filesystem::path& dir);
 
  private:
-  bool physics_ = false;
+  bool physics_ = false, walls_ = false;
   std::unique_ptr<io::CsvLog> episodes_, ppo_, distribution_, q_, sampled_;
 };
 

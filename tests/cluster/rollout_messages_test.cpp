@@ -27,6 +27,7 @@ TEST(RolloutMessages, SetupsRoundTripBitForBit) {
   randomize.strain_noise = 1e-4;
   randomize.actuation_delay = true;
   setups[2].physics = core::draw_physics(randomize, 5, 17, 3);
+  setups[2].physics.wall_offset_mm = -0.25;
   ASSERT_GT(setups[2].physics.noise_seed, 0xFFFFFFFFULL);  // both halves of the seed carry bits
   const std::vector<core::EpisodeSetup> back = unpack_setups(pack_setups(setups, 1, 2));
   ASSERT_EQ(back.size(), 2u);

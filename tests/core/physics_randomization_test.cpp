@@ -77,5 +77,26 @@ TEST(PhysicsRandomization, WideningOneRangeLeavesTheOthersDraws) {
   }
 }
 
+TEST(PhysicsRandomization, WallLevelsAreThreeEquallyLikelyAndDrawnLast) {
+  RandomizeConfig a = quarter(), b = quarter();
+  b.wall_mm = 0.2;
+  int count[3] = {0, 0, 0};
+  const int n = 3000;
+  for (int i = 0; i < n; ++i) {
+    const auto env = static_cast<std::size_t>(i % 30);
+    const PhysicsDraw da = draw_physics(a, 9, i / 30, env), db = draw_physics(b, 9, i / 30, env);
+    EXPECT_EQ(da.wall_offset_mm, 0.0);
+    // The table's other draws, the noise stream among them, are those of a run without walls.
+    PhysicsDraw without = db;
+    without.wall_offset_mm = 0.0;
+    ASSERT_EQ(without, da);
+    ASSERT_TRUE(db.wall_offset_mm == -0.2 || db.wall_offset_mm == 0.0 || db.wall_offset_mm == 0.2);
+    ++count[db.wall_offset_mm < 0 ? 0 : db.wall_offset_mm == 0 ? 1 : 2];
+    EXPECT_EQ(db.simulation_part().wall_offset_mm, db.wall_offset_mm);  // keys the caches
+  }
+  // Each level has probability 1/3: a count within 5 binomial standard deviations, √(n·⅓·⅔).
+  for (const int c : count) EXPECT_NEAR(c, n / 3.0, 5.0 * std::sqrt(n * 2.0 / 9.0));
+}
+
 }  // namespace
 }  // namespace codesign::core

@@ -3,7 +3,8 @@
 // scale every force of the equations of motion (elastic, fibre, inertial, Rayleigh and gravity
 // alike), so the body moves exactly as the nominal one and every contact force is s times the
 // nominal; the gauge's gain scales the tared strain the policy sees; a delayed actuation turns the
-// base one decision late; the inflation cue is the gauge's two-point reading, offset-free.
+// base one decision late; the inflation cue is the gauge's two-point reading, offset-free; a wall cast
+// 0.5 mm thicker is the grid's next wall.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -129,6 +130,38 @@ TEST(WhiskerEnvPhysics, TrueModulusCueIsTheDrawnScaleOnTheRandomizedRange) {
   const std::vector<Reading> a = run(soft, 0.2, task);
   // 0.8 on [0.75, 1.25] → 2 (0.8 − 0.75) / 0.5 − 1 = −0.8.
   EXPECT_NEAR(a[0].obs[a[0].obs.size() - 1], -0.8, 1e-12);
+}
+
+TEST(WhiskerEnvPhysics, ACastWallHalfAMillimetreThickerIsTheNextWallOfTheGrid) {
+  // j21 = {1, 28 mm, 2.5 mm} cast 0.5 mm thicker is j22 = {1, 28 mm, 3.0 mm}: the same geometry,
+  // meshed the same deterministic way, so the same episode to the bit.
+  EpisodeSetup cast{21, 10.0, 0.0, 1.0, 0.0};
+  cast.physics.wall_offset_mm = 0.5;
+  const EpisodeSetup grid{22, 10.0, 0.0, 1.0, 0.0};
+  const std::vector<Reading> a = run(cast, 0.3), b = run(grid, 0.3);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].force_mN, b[k].force_mN) << "decision " << k;
+    EXPECT_EQ(a[k].strain, b[k].strain) << "decision " << k;
+  }
+}
+
+TEST(WhiskerEnvPhysics, TheExtremeWallLevelsMeshAndAThickerWallInflatesLess) {
+  // The thinnest and the thickest bodies of the grid at the widest level, [randomize] wall_mm
+  // 0.25: both must mesh and settle, or a run that draws them would stop.
+  TaskConfig task;
+  task.stiffness_cue = StiffnessCue::Inflation;
+  for (const auto& [design, offset] : {std::pair{55, -0.25}, std::pair{109, 0.25}, std::pair{0, -0.25}, std::pair{54, 0.25}}) {
+    EpisodeSetup s{design, 10.0, 10.0, 1.0, 0.0};
+    s.physics.wall_offset_mm = offset;
+    const std::vector<Reading> r = run(s, 0.0, task);
+    ASSERT_FALSE(r.empty()) << "j" << design;
+    EXPECT_TRUE(std::isfinite(r[0].force_mN)) << "j" << design;
+  }
+  EpisodeSetup thin{21, 10.0, 0.0, 1.0, 0.0}, thick = thin;
+  thin.physics.wall_offset_mm = -0.25;
+  thick.physics.wall_offset_mm = 0.25;
+  EXPECT_GT(inflation_reading(run(thin, 0.0, task)[0], task), inflation_reading(run(thick, 0.0, task)[0], task));
 }
 
 }  // namespace
