@@ -45,6 +45,9 @@ std::vector<Verdict> verdicts(const std::vector<VerifyRow>& rows, const std::vec
     else
       line += std::string(v.within ? " is within" : " is below") + " the best group (best: " + best->subject + ", " +
               design_name(*best) + ", " + interval(*best) + ")";
+    for (const VerifyRow& r : rows)
+      if (r.condition == c && r.controller == kControllerSpecialist && r.at.design == dstar->at.design)
+        line += "; " + r.subject + " " + interval(r);
     for (const char* b : {kControllerPidForce, kControllerPidEstimate})
       if (const VerifyRow* r = find_row(rows, b, c)) line += "; " + std::string(b) + " " + interval(*r);
     v.line = line;

@@ -1,5 +1,6 @@
 #include "run/verify_run.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -156,18 +157,23 @@ SubjectSources subject_sources(const RunSettings& settings, const fs::path& dir,
   return sources;
 }
 
-// verify.toml: what a verify of the folder is; a folder holding another one is continued only if
-// it matches.
-std::string verify_stamp(const VerifyOptions& options, const std::vector<VerifySubject>& subjects) {
+// verify.toml: what every cell of the folder shares; a folder holding cells of another is
+// continued only if it matches. The subjects are not part of it: a cell is kept for the subject,
+// design and pressures it was run for (cell_key), so a later call with more subjects (--next,
+// --with, the specialists) runs only the cells it adds.
+std::string verify_stamp(const VerifyOptions& options) {
   std::ostringstream stamp;
   stamp << "# codesign verify: the run's final policy (and two PIDs on d*) under held-out physics\n"
         << "phases = " << options.phases << "\n"
         << "phase_set = \"" << options.phase_set << "\"   # test: 2*pi*(k + 1/2)/phases, validation: 2*pi*(k + 1/4)/phases\n"
         << "policy_bytes = " << fs::file_size(fs::path(options.dir) / run_file::kPolicy) << "\n";
-  for (const VerifySubject& s : subjects)
-    stamp << "subject = [\"" << s.name << "\", \"" << s.controller << "\", " << s.at.design << ", " << num(s.at.p1_kPa)
-          << ", " << num(s.at.p2_kPa) << "]\n";
   return stamp.str();
+}
+
+std::string cell_key(const std::string& subject, const std::string& controller, const DesignAtPressures& at,
+                     const std::string& condition) {
+  return subject + ',' + controller + ',' + std::to_string(at.design) + ',' + num(at.p1_kPa) + ',' + num(at.p2_kPa) +
+         ',' + condition;
 }
 
 }  // namespace
@@ -196,8 +202,7 @@ std::vector<VerifyCondition> verify_suite() {
   return s;
 }
 
-VerifySummary verify_run(const VerifyOptions& options) {
-  const auto t_start = std::chrono::steady_clock::now();
+std::vector<VerifySubject> verify_plan(const VerifyOptions& options) {
   const fs::path dir(options.dir);
   std::error_code ec;
   for (const char* f : {run_file::kConfig, run_file::kResult, run_file::kPolicy})
@@ -209,15 +214,31 @@ VerifySummary verify_run(const VerifyOptions& options) {
     if (!fs::exists(fs::path(w) / run_file::kResult, ec))
       throw InputError("--with: " + (fs::path(w) / run_file::kResult).string() +
                        ": not found; each --with folder must be a finished co-design run");
+  const RunSettings settings = run_settings(read_run_config((dir / run_file::kConfig).string()));
+  std::vector<VerifySubject> subjects = verify_subjects(subject_sources(settings, dir, options));
+  // The specialists after the run's policy subjects, before the PIDs.
+  auto at = std::find_if(subjects.begin(), subjects.end(),
+                         [](const VerifySubject& s) { return s.controller != kControllerPolicy; });
+  for (const VerifyOptions::Specialist& sp : options.specialists) {
+    VerifySubject s{sp.name, kControllerSpecialist, sp.at,
+                    "a fresh policy trained on this design alone at these pressures, seed " + std::to_string(sp.seed),
+                    sp.policy_file};
+    at = subjects.insert(at, std::move(s)) + 1;
+  }
+  return subjects;
+}
+
+VerifySummary verify_run(const VerifyOptions& options) {
+  const auto t_start = std::chrono::steady_clock::now();
+  VerifySummary summary;
+  summary.subjects = verify_plan(options);
+  const fs::path dir(options.dir);
+  std::error_code ec;
   const RunConfig config = read_run_config((dir / run_file::kConfig).string());
   const RunSettings settings = run_settings(config);
   const core::TaskConfig& task = settings.loop.task;
-  const SubjectSources sources = subject_sources(settings, dir, options);
   const auto policy = std::make_shared<const rl::Policy>(rl::load_policy(dir / run_file::kPolicy));
-  VerifySummary summary;
-  summary.subjects = verify_subjects(sources);
 
-  // Validation phases get a folder of their own: an experiment may choose on them beside a test.
   const fs::path folder = dir / (options.phase_set == "test" ? "verify" : "verify_validation");
   summary.folder = folder.string();
   fs::create_directories(folder, ec);
@@ -225,12 +246,11 @@ VerifySummary verify_run(const VerifyOptions& options) {
   const io::RunLock lock(folder.string());
 
   const fs::path csv = folder / "conditions.csv";
-  std::map<std::pair<std::string, std::string>, VerifyRow> done;
+  std::map<std::string, VerifyRow> done;
   for (const VerifyRow& r : open_resumable_table<VerifyRow>(folder, folder / "verify.toml", csv,
-                                                            verify_stamp(options, summary.subjects), kColumns,
+                                                            verify_stamp(options), kColumns,
                                                             options.force, "a verify", read_rows))
-    done[{r.subject, r.condition}] = r;
-  summary.cells_before = static_cast<int>(done.size());
+    done[cell_key(r.subject, r.controller, r.at, r.condition)] = r;
   if (done.empty())
     for (const char* f : {"report.md", "verify.dat", "verify.png"}) fs::remove(folder / f, ec);
 
@@ -256,6 +276,8 @@ VerifySummary verify_run(const VerifyOptions& options) {
   std::map<std::string, core::ControllerFactory> pids;
   const auto controller_for = [&](const VerifySubject& s) -> core::ControllerFactory {
     if (s.controller == kControllerPolicy) return core::policy_factory(policy);
+    if (s.controller == kControllerSpecialist)
+      return core::policy_factory(std::make_shared<const rl::Policy>(rl::load_policy(s.policy_file)));
     if (const auto it = pids.find(s.controller); it != pids.end()) return it->second;
     const core::PidSignal signal =
         s.controller == kControllerPidForce ? core::PidSignal::Force : core::PidSignal::Estimate;
@@ -274,8 +296,9 @@ VerifySummary verify_run(const VerifyOptions& options) {
   for (const VerifySubject& s : summary.subjects) {
     core::ControllerFactory controller;
     for (const VerifyCondition& c : suite) {
-      if (const auto it = done.find({s.name, c.name}); it != done.end()) {
+      if (const auto it = done.find(cell_key(s.name, s.controller, s.at, c.name)); it != done.end()) {
         summary.rows.push_back(it->second);
+        ++summary.cells_before;
         continue;
       }
       if (!controller) controller = controller_for(s);
@@ -305,10 +328,8 @@ VerifySummary verify_run(const VerifyOptions& options) {
   in.subjects = summary.subjects;
   for (const VerifyCondition& c : suite) in.conditions.emplace_back(c.name, c.what);
   in.rows = summary.rows;
-  if (sources.single_design)
+  if (settings.loop.codesign.baseline == core::Baseline::SingleDesign)
     in.notes = "The run trained d* alone (codesign.baseline = \"single_design\"): its policy is tested on no other design.";
-  else if (!sources.ranked_from.empty())
-    in.notes = "The next designs come from the " + sources.ranked_from + ".";
   io::write_file_atomically((folder / "report.md").string(), [&](std::ostream& out) { out << verify_report(in); });
   summary.figure_message = draw_figure(folder, options.plots_dir, summary, suite, run_name(options.dir));
   summary.wall_s = seconds_since(t_start);

@@ -32,6 +32,15 @@ struct VerifyOptions {
   bool force = false;       // replace a verify of the run made with other settings
   bool progress = true;
   std::string plots_dir;    // folder of verify.gp ("": no figure)
+  // Policies trained on one subject's design alone (the specialists, trained by the caller: the
+  // verify job of apps/), tested as subjects of their own after the run's policy subjects.
+  struct Specialist {
+    std::string name;         // "own_j40_s1"
+    std::string policy_file;
+    DesignAtPressures at;
+    int seed = 1;
+  };
+  std::vector<Specialist> specialists;
 };
 
 // One held-out condition: a physics draw applied to every episode, or the refined mesh.
@@ -48,11 +57,15 @@ struct VerifySummary {
   std::string folder;            // RUN/verify
   std::vector<VerifySubject> subjects;
   std::vector<VerifyRow> rows;   // subject-major, suite order within a subject
-  int cells_run = 0, cells_before = 0;
+  int cells_run = 0, cells_before = 0;  // this call's cells: run now, and found done
   int episodes_run = 0;          // episodes of the cells run now (the PIDs' tuning not counted)
   double wall_s = 0.0;           // of this call
   std::string figure_message;    // why verify.png was not drawn ("" when it was)
 };
+
+// What a verify of the run tests, in report order (without running anything). Throws as
+// verify_run.
+std::vector<VerifySubject> verify_plan(const VerifyOptions& options);
 
 // Throws InputError naming the file or flag: no run folder, config.toml, result.toml or
 // policy.bin; a `with` folder without result.toml; a phase set other than test/validation; a

@@ -52,7 +52,7 @@ std::vector<VerifySubject> verify_subjects(const SubjectSources& s) {
       if (contains(designs, at.design)) return;
       designs.push_back(at.design);
     }
-    out.push_back({std::move(name), std::move(controller), at, std::move(why)});
+    out.push_back({std::move(name), std::move(controller), at, std::move(why), {}});
   };
   add("d*", kControllerPolicy, s.best, "the run's answer, at p*");
   if (!s.single_design) {

@@ -18,12 +18,14 @@ struct DesignAtPressures {
 inline constexpr const char* kControllerPolicy = "policy";
 inline constexpr const char* kControllerPidForce = "pid_force";        // PID on the true force: an oracle sensor
 inline constexpr const char* kControllerPidEstimate = "pid_estimate";  // PI(D) on F̂(ε, θ) fitted on nominal episodes
+inline constexpr const char* kControllerSpecialist = "specialist";  // a fresh policy trained on the design alone
 
 struct VerifySubject {
   std::string name;        // "d*", "runner_up", "next_1", "outside_wall", "d*_of_<run>", "pid_force", ...
   std::string controller;  // kControllerPolicy, kControllerPidForce or kControllerPidEstimate
   DesignAtPressures at;
   std::string why;         // one line for the report
+  std::string policy_file; // kControllerSpecialist: its policy.bin
 };
 
 struct SubjectSources {

@@ -58,13 +58,8 @@ TEST(VerifyCommand, NominalReproducesTheRunsTestAndTheSuiteResumes) {
 
   r = run_codesign("verify --run " + run.string() + " --phases 2 --threads 2");
   ASSERT_EQ(r.status, 0) << r.output;
-  const std::string stamp = slurp(run / "verify" / "verify.toml");
-  std::size_t subjects = 0;
-  for (std::size_t at = stamp.find("\nsubject = "); at != std::string::npos; at = stamp.find("\nsubject = ", at + 1))
-    ++subjects;
   // d*, the runner-up, two next designs, two outside bodies and the two PIDs.
-  EXPECT_EQ(subjects, 8u) << stamp;
-  const std::size_t cells = subjects * codesign::run::verify_suite().size();
+  const std::size_t cells = 8 * codesign::run::verify_suite().size();
   EXPECT_NE(r.output.find("verify: " + std::to_string(cells) + " cells run now, 0 before"), std::string::npos)
       << r.output;
   const std::string csv = slurp(run / "verify" / "conditions.csv");
@@ -98,11 +93,29 @@ TEST(VerifyCommand, NominalReproducesTheRunsTestAndTheSuiteResumes) {
   EXPECT_EQ(mean_cell(validation, "next_1", "nominal"), "");
   EXPECT_EQ(mean_cell(validation, "pid_force", "nominal"), "");
 
+  // Specialists: a fresh policy trained on each tested design of the run alone, in folders of their
+  // own, then tested as subjects; the cells done before are kept.
+  r = run_codesign("verify --run " + run.string() +
+                   " --phases 2 --next 0 --no-baselines --specialists --specialist-timesteps 16 --threads 2");
+  ASSERT_EQ(r.status, 0) << r.output;
+  // d*, the runner-up and the two outside bodies, each with its specialist (4 × 9 new cells).
+  EXPECT_NE(r.output.find("verify: 36 cells run now, 36 before"), std::string::npos) << r.output;
+  const std::string with_specialists = slurp(run / "verify" / "conditions.csv");
+  EXPECT_EQ(with_specialists.substr(0, csv.size()), csv);  // the earlier cells as they were
+  std::size_t own = 0;
+  for (std::size_t at = with_specialists.find("\nown_j"); at != std::string::npos;
+       at = with_specialists.find("\nown_j", at + 1))
+    ++own;
+  EXPECT_EQ(own, 36u);
+  const std::string best = result_value(result, "best", "design");
+  EXPECT_TRUE(fs::exists(run / "verify" / "specialists" / ("j" + best + "_s1") / "result.toml"));
+  EXPECT_NE(slurp(run / "verify" / "report.md").find("; own_j" + best + "_s1 "), std::string::npos);
+
   // Other settings on the same folder: refused without --force, nothing changed.
   r = run_codesign("verify --run " + run.string() + " --phases 3");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("holds a verify with other settings"), std::string::npos) << r.output;
-  EXPECT_EQ(slurp(run / "verify" / "conditions.csv"), csv);
+  EXPECT_EQ(slurp(run / "verify" / "conditions.csv"), with_specialists);
 
   fs::remove(run / "policy.bin");
   r = run_codesign("verify --run " + run.string());
