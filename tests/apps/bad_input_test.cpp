@@ -231,6 +231,8 @@ std::vector<Case> cases() {
       config("baseline", "[codesign]\nbaseline = \"random\"\n", {"baseline.toml: codesign.baseline", "\"none\", \"single_design\""}),
       config("randomize_range", "[randomize]\nyoungs_modulus = 2.0\n", {"randomize_range.toml: randomize.youngs_modulus", "allowed [0, 0.9]"}),
       config("randomize_key", "[randomize]\nyoung_modulus = 0.2\n", {"randomize_key.toml: randomize.young_modulus", "unknown key in [randomize]", "youngs_modulus"}),
+      config("wall_range", "[randomize]\nwall_mm = 0.5\n", {"wall_range.toml: randomize.wall_mm", "allowed [0, 0.25]"}),
+      config("stiffness_cue", "[task]\nstiffness_cue = \"camera\"\n", {"stiffness_cue.toml: task.stiffness_cue", "\"none\", \"inflation\", \"true_modulus\""}),
       config("n_steps", "[ppo]\nn_steps = 7\n", {"n_steps.toml: ppo.n_steps", "must equal the decisions per episode", "= 50"}),
       config("hidden_empty_layer", "[ppo]\nactor_hidden = [64, 0]\n", {"hidden_empty_layer.toml: ppo.actor_hidden", "element 1 = 0 is out of range"}),
       config("precision", "[ppo]\nmatmul_precision = \"fp8\"\n", {"precision.toml: ppo.matmul_precision", "\"auto\""}),
@@ -257,6 +259,9 @@ std::vector<Case> cases() {
       cli("sweep_designs_reversed", "sweep --config DIR/tiny.toml -o DIR/sweep --designs 9-4", {"--designs: '9-4' is not a design index or range A-B within 0..109"}),
       cli("sweep_threads_range", "sweep --config DIR/tiny.toml -o DIR/sweep --threads 1025", {"--threads", "1025", "1024"}),
       cli("unknown_command", "frobnicate --config DIR/tiny.toml", {"unknown command 'frobnicate'", "allowed: run, survey, mesh, sim, train-gym, figures, check, config-keys, render, baseline, sweep, refine, evaluate, verify, bench"}),
+      cli("verify_no_run", "verify --run DIR/none", {"DIR/none/config.toml: not found; verify needs a finished co-design run folder"}),
+      cli("verify_phase_set", "verify --run DIR/run --phase-set train", {"--phase-set", "train"}),
+      cli("verify_with", "verify --run DIR/run --with DIR/none", {"--with: DIR/none/result.toml: not found; each --with folder must be a finished co-design run"}),
       cli("vtk_every_negative", "sim --config DIR/tiny.toml -o DIR/sim --vtk-every -3", {"--vtk-every", "-3"}),
       cli("check_unknown_file", "check DIR/tiny.toml", {"DIR/tiny.toml: not a file codesign reads", "allowed: a gmsh .msh 4.1 mesh"}),
       // ---- meshes (codesign check)
