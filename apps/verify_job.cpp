@@ -74,8 +74,8 @@ int run_verify_job(const VerifyJobOptions& o) {
   const VerifySummary s = verify_run(vo);
   std::printf("verify: %d cells run now, %d before -> %s/report.md\n", s.cells_run, s.cells_before, s.folder.c_str());
   if (s.episodes_run > 0)
-    std::printf("verify: %s wall for %d episodes (%.2f s each, the PIDs' tuning included)\n",
-                duration_text(s.wall_s).c_str(), s.episodes_run, s.wall_s / s.episodes_run);
+    std::printf("verify: %s wall, %.0f s of CPU, for %d episodes (%.2f s of CPU each, the PIDs' tuning included)\n",
+                duration_text(s.wall_s).c_str(), s.cpu_s, s.episodes_run, s.cpu_s / s.episodes_run);
   if (!s.figure_message.empty()) std::printf("verify: no verify.png: %s\n", s.figure_message.c_str());
   return 0;
 }

@@ -1,6 +1,6 @@
 #pragma once
-// A discrete design space j = (n, l, w) given by its three axes (issue 52: the space from the
-// config, not from the code). The paper's space is DesignSpace::paper(): n ∈ {1, 2},
+// A discrete design space j = (n, l, w) given by its three axes, so that a space can come from
+// the config rather than from the code. The paper's space is DesignSpace::paper(): n ∈ {1, 2},
 // l ∈ {20, 22, …, 40} mm, w ∈ {2.0, 2.5, …, 4.0} mm, 110 designs, and for it every function here
 // gives what design.hpp's free functions give, to the bit (tests/fem/design_space_test.cpp).
 //

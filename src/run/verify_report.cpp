@@ -34,14 +34,19 @@ std::vector<Verdict> verdicts(const std::vector<VerifyRow>& rows, const std::vec
     const VerifyRow* dstar = find_row(rows, "d*", c);
     if (!dstar) continue;
     const VerifyRow* best = dstar;
+    int designs = 0;
     for (const VerifyRow& r : rows)
-      if (r.condition == c && r.controller == kControllerPolicy && r.mean_return > best->mean_return) best = &r;
+      if (r.condition == c && r.controller == kControllerPolicy) {
+        ++designs;
+        if (r.mean_return > best->mean_return) best = &r;
+      }
     Verdict v;
     v.condition = c;
     v.best_subject = best->subject;
     v.within = dstar->mean_return + dstar->ci95 >= best->mean_return - best->ci95;
     std::string line = c + ": d* (" + design_name(*dstar) + ") " + interval(*dstar);
-    if (best == dstar) line += " leads the designs tested";
+    if (designs == 1) line += ", the only design tested";
+    else if (best == dstar) line += " leads the designs tested";
     else
       line += std::string(v.within ? " is within" : " is below") + " the best group (best: " + best->subject + ", " +
               design_name(*best) + ", " + interval(*best) + ")";

@@ -12,6 +12,7 @@
 
 #include "base/errors.hpp"
 #include "base/seconds_since.hpp"
+#include "base/thread_cpu_seconds.hpp"
 #include "core/evaluation.hpp"
 #include "core/pid_tuning.hpp"
 #include "core/policy_controller.hpp"
@@ -90,7 +91,12 @@ std::vector<DesignAtPressures> run_order(const RunSettings& settings, const fs::
     from = "run's evaluate ranking (evaluate/final/ranking.csv)";
     return out;
   }
-  for (const StateDesign& d : state_designs(settings, dir.string(), "final")) out.push_back({d.design, d.p1_kPa, d.p2_kPa});
+  try {
+    for (const StateDesign& d : state_designs(settings, dir.string(), "final"))
+      out.push_back({d.design, d.p1_kPa, d.p2_kPa});
+  } catch (const InputError& e) {
+    throw InputError(std::string(e.what()) + "; verify takes the next designs from the run's final state (or pass --next 0)");
+  }
   from = "final design distribution by probability";
   return out;
 }
@@ -230,6 +236,7 @@ std::vector<VerifySubject> verify_plan(const VerifyOptions& options) {
 
 VerifySummary verify_run(const VerifyOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();
+  const double cpu_start = process_cpu_seconds();
   VerifySummary summary;
   summary.subjects = verify_plan(options);
   const fs::path dir(options.dir);
@@ -333,6 +340,7 @@ VerifySummary verify_run(const VerifyOptions& options) {
   io::write_file_atomically((folder / "report.md").string(), [&](std::ostream& out) { out << verify_report(in); });
   summary.figure_message = draw_figure(folder, options.plots_dir, summary, suite, run_name(options.dir));
   summary.wall_s = seconds_since(t_start);
+  summary.cpu_s = process_cpu_seconds() - cpu_start;
   return summary;
 }
 

@@ -60,6 +60,7 @@ struct VerifySummary {
   int cells_run = 0, cells_before = 0;  // this call's cells: run now, and found done
   int episodes_run = 0;          // episodes of the cells run now (the PIDs' tuning not counted)
   double wall_s = 0.0;           // of this call
+  double cpu_s = 0.0;            // CPU time of this call, all threads
   std::string figure_message;    // why verify.png was not drawn ("" when it was)
 };
 

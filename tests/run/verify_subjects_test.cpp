@@ -76,6 +76,11 @@ TEST(VerifyReport, DstarIsWithinTheBestGroupWhenItsIntervalReachesTheBests) {
   v = verdicts(rows, {"nominal"});
   EXPECT_FALSE(v[0].within);
   EXPECT_NE(v[0].line.find("is below the best group"), std::string::npos) << v[0].line;
+  // A single-design run: d* is the only design, beside its PID.
+  rows.erase(rows.begin() + 1);
+  v = verdicts(rows, {"nominal"});
+  EXPECT_TRUE(v[0].within);
+  EXPECT_NE(v[0].line.find("37.5 [36.1, 38.9], the only design tested; pid_force"), std::string::npos) << v[0].line;
 }
 
 }  // namespace
