@@ -3,14 +3,16 @@
 # each verify condition, mean ± std across seeds (each seed: the mean over its test phases) and
 # the lowest seed; then the issue's targets for one arm: modulus ±20 % mean >= 40 with no seed
 # below 37, nominal >= 45, plate x1.5 and the refined mesh >= 42.
-#   bash experiments/robust_summary.sh OUT "tared nominal inflation" "1 2 3" [TARGET_ARM]
-# OUT holds j40_<arm>_s<seed>/verify/conditions.csv (experiments/robust_arms.sh). A missing run
-# or verify is printed as "—".
+#   [VERIFY_DIR=verify_validation] bash experiments/robust_summary.sh OUT "tared nominal inflation" "1 2 3" [TARGET_ARM]
+# OUT holds j40_<arm>_s<seed>/$VERIFY_DIR/conditions.csv (experiments/robust_arms.sh; VERIFY_DIR
+# defaults to verify, the test phases; verify_validation holds `verify --phase-set validation`,
+# the phases to compare arms on). A missing run or verify is printed as "—".
 set -euo pipefail
 out=${1:?usage: robust_summary.sh OUT "ARMS" "SEEDS" [TARGET_ARM]}
 arms=${2:?arms}
 seeds=${3:?seeds}
 target=${4:-}
+vdir=${VERIFY_DIR:-verify}
 conditions="nominal modulus_-20% modulus_+20% refined_mesh plate_x0.5 plate_x1.5 gain_-10% gain_+10% strain_noise"
 
 # d*'s mean return under a condition in a verify's conditions.csv (empty if absent). Files of the
@@ -28,7 +30,7 @@ for arm in $arms; do
   for c in $conditions; do
     vals=""
     for s in $seeds; do
-      v=$(dstar_mean "$out/j40_${arm}_s$s/verify/conditions.csv" "$c")
+      v=$(dstar_mean "$out/j40_${arm}_s$s/$vdir/conditions.csv" "$c")
       vals="$vals ${v:-nan}"
     done
     echo "$vals" | awk '{ n = 0; miss = 0; for (i = 1; i <= NF; ++i) { if ($i == "nan") { miss = 1; continue } x[++n] = $i }
@@ -45,7 +47,7 @@ echo "each cell: mean ± std across seeds (sample std), the lowest seed in paren
 [ -n "$target" ] || exit 0
 verdict() { if awk -v a="$2" -v b="$3" 'BEGIN { exit !(a + 0 >= b + 0) }'; then echo "$1: met"; else echo "$1: NOT met"; fi; }
 stat() {  # mean and min across seeds of a condition for the target arm
-  for s in $seeds; do dstar_mean "$out/j40_${target}_s$s/verify/conditions.csv" "$1"; done |
+  for s in $seeds; do dstar_mean "$out/j40_${target}_s$s/$vdir/conditions.csv" "$1"; done |
     awk '{ x[++n] = $1; m += $1; if (n == 1 || $1 < lo) lo = $1 } END { if (n) printf "%.4f %.4f %d", m / n, lo, n; else print "nan nan 0" }'
 }
 read -r m_lo min_lo n_lo <<< "$(stat modulus_-20%)"
