@@ -52,6 +52,9 @@ class KeyCheck {
     sized(k, f.size(), length);
     for (double x : f) in_range(k, x, each);
   }
+  void grid(const Key& k, std::vector<double>& f, Range<double> each, Range<std::size_t> length) {
+    numbers(k, f, each, length);
+  }
   void integers(const Key& k, std::vector<int>& f, Range<std::int64_t> each, Range<std::size_t> length) {
     sized(k, f.size(), length);
     for (int x : f) integer(k, x, each);

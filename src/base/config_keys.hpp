@@ -27,6 +27,10 @@
 //   v.choice(k, E& f, const EnumNames<E, N>& names)        // one of the names
 //   v.numbers(k, std::vector<double>& f, Range<double> each, Range<std::size_t> length)
 //   v.integers(k, std::vector<int>& f, Range<std::int64_t> each, Range<std::size_t> length)
+//   v.grid(k, std::vector<double>& f, Range<double> each, Range<std::size_t> length)
+//                                                          // an array, or {from, to, step}
+//                                                          // (base/grid_values.hpp); written
+//                                                          // as the array it gives
 //   v.optional_number(k, std::optional<double>& f, Range<double>)   // written only when set
 //   v.window(k_start, k_end, std::optional<std::int64_t>& start, std::optional<std::int64_t>& end,
 //            Range<std::int64_t>)                          // both keys or neither, start < end

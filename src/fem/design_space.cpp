@@ -30,16 +30,6 @@ double to_pm1(double v, double lo, double hi) { return hi > lo ? 2.0 * (v - lo) 
 
 }  // namespace
 
-std::vector<double> axis_range(double from, double to, double step) {
-  if (!(step > 0.0) || !std::isfinite(step)) throw std::invalid_argument("step must be > 0");
-  if (!(from <= to) || !std::isfinite(from) || !std::isfinite(to)) throw std::invalid_argument("from must not exceed to");
-  const double k_last = std::floor((to - from) / step + kMatchTol);
-  if (k_last >= 10000) throw std::invalid_argument("more than 10000 values");
-  std::vector<double> v;
-  for (int k = 0; k <= static_cast<int>(k_last); ++k) v.push_back(from + step * k);
-  return v;
-}
-
 DesignSpace DesignSpace::paper() {
   DesignAxes a;
   a.chambers = {1, 2};

@@ -22,11 +22,6 @@ struct DesignAxes {
   std::vector<double> walls_mm;
 };
 
-// The values from `from` to `to` in steps of `step` (to included when it lies on the grid to
-// within 1e-9 of a step; each value computed as from + k·step, so no error accumulates).
-// std::invalid_argument unless step > 0, from <= to, and the count is at most 10 000.
-std::vector<double> axis_range(double from, double to, double step);
-
 class DesignSpace {
  public:
   // The paper's 110 designs.

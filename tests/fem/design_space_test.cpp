@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 
+#include "base/grid_values.hpp"
 #include "fem/design_space.hpp"
 
 namespace codesign::fem {
@@ -27,7 +28,7 @@ TEST(DesignSpace, ThePapersSpaceIsDesignHppToTheBit) {
 
 TEST(DesignSpace, AnOffGridSpaceIndexesAndScalesItsOwnAxes) {
   // Walls 1.5–3 mm, chambers up to 50 mm, one chamber: 1 × 16 × 4 designs.
-  const DesignSpace s(DesignAxes{{1}, axis_range(20.0, 50.0, 2.0), axis_range(1.5, 3.0, 0.5)});
+  const DesignSpace s(DesignAxes{{1}, grid_values(20.0, 50.0, 2.0), grid_values(1.5, 3.0, 0.5)});
   EXPECT_FALSE(s.is_paper());
   ASSERT_EQ(s.size(), 64);
   const Design last = s.design(63);
@@ -47,11 +48,11 @@ TEST(DesignSpace, AnOffGridSpaceIndexesAndScalesItsOwnAxes) {
 }
 
 TEST(DesignSpace, RangesIncludeTheirEndAndBadAxesAreRefused) {
-  EXPECT_EQ(axis_range(2.0, 4.0, 0.5), (std::vector<double>{2.0, 2.5, 3.0, 3.5, 4.0}));
-  EXPECT_EQ(axis_range(0.1, 0.3, 0.1).size(), 3u);  // 0.3 reached despite 0.1's rounding
-  EXPECT_EQ(axis_range(20.0, 25.0, 2.0), (std::vector<double>{20.0, 22.0, 24.0}));
-  EXPECT_THROW(axis_range(1.0, 2.0, 0.0), std::invalid_argument);
-  EXPECT_THROW(axis_range(3.0, 2.0, 0.5), std::invalid_argument);
+  EXPECT_EQ(grid_values(2.0, 4.0, 0.5), (std::vector<double>{2.0, 2.5, 3.0, 3.5, 4.0}));
+  EXPECT_EQ(grid_values(0.1, 0.3, 0.1).size(), 3u);  // 0.3 reached despite 0.1's rounding
+  EXPECT_EQ(grid_values(20.0, 25.0, 2.0), (std::vector<double>{20.0, 22.0, 24.0}));
+  EXPECT_THROW(grid_values(1.0, 2.0, 0.0), std::invalid_argument);
+  EXPECT_THROW(grid_values(3.0, 2.0, 0.5), std::invalid_argument);
   const auto refused = [](DesignAxes a, const std::string& axis) {
     try {
       DesignSpace s(std::move(a));

@@ -56,6 +56,12 @@ class KeyDoc {
     for (std::size_t i = 0; i < f.size(); ++i) d += (i ? ", " : "") + toml_number(f[i]);
     row(k, "array of floats", d + "]", k.range_note.empty() ? lengths(length) + ", each in " + config::range_text(each) : "");
   }
+  void grid(const config::Key& k, std::vector<double>& f, Range<double> each, Range<std::size_t> length) {
+    std::string d = "[";
+    for (std::size_t i = 0; i < f.size(); ++i) d += (i ? ", " : "") + toml_number(f[i]);
+    row(k, "array of floats or {from, to, step}", d + "]",
+        k.range_note.empty() ? lengths(length) + ", each in " + config::range_text(each) : "");
+  }
   void integers(const config::Key& k, std::vector<int>& f, Range<std::int64_t> each, Range<std::size_t> length) {
     std::string d = "[";
     for (std::size_t i = 0; i < f.size(); ++i) d += (i ? ", " : "") + std::to_string(f[i]);

@@ -78,6 +78,11 @@ class KeyReader {
     std::vector<double> v = t_.numbers(k.name, f, each.lo, each.hi, length.lo, length.hi);
     if (a) f = std::move(v);
   }
+  void grid(const config::Key& k, std::vector<double>& f, Range<double> each, Range<std::size_t> length) {
+    const bool a = applies(k);
+    std::vector<double> v = t_.grid(k.name, f, each.lo, each.hi, length.lo, length.hi);
+    if (a) f = std::move(v);
+  }
   void integers(const config::Key& k, std::vector<int>& f, Range<std::int64_t> each, Range<std::size_t> length) {
     const bool a = applies(k);
     const std::vector<std::int64_t> v =
@@ -136,6 +141,9 @@ class KeyWriter {
     if (writes(k)) w_.string(k.name, name_of(names, f));
   }
   void numbers(const config::Key& k, std::vector<double>& f, Range<double>, Range<std::size_t>) {
+    if (writes(k)) w_.numbers(k.name, f);
+  }
+  void grid(const config::Key& k, std::vector<double>& f, Range<double>, Range<std::size_t>) {
     if (writes(k)) w_.numbers(k.name, f);
   }
   void integers(const config::Key& k, std::vector<int>& f, Range<std::int64_t>, Range<std::size_t>) {

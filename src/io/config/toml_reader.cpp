@@ -1,6 +1,7 @@
 #include "io/config/toml_reader.hpp"
 
 #include "base/config_check.hpp"
+#include "base/grid_values.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -266,6 +267,39 @@ std::vector<double> TableReader::numbers(std::string_view key, std::vector<doubl
     }
     out.push_back(v);
   }
+  return out;
+}
+
+std::vector<double> TableReader::grid(std::string_view key, std::vector<double> def, double lo, double hi,
+                                      std::size_t min_len, std::size_t max_len) {
+  const auto* node = table_ == nullptr ? nullptr : static_cast<const toml::node*>(table_->get(key));
+  if (node == nullptr || !node->is_table()) return numbers(key, std::move(def), lo, hi, min_len, max_len);
+  (void)lookup(key);
+  const toml::table& range = *node->as_table();
+  for (auto&& [k, v] : range)
+    if (k.str() != "from" && k.str() != "to" && k.str() != "step")
+      fail(key, "unknown key \"" + std::string(k.str()) + "\" in {from, to, step}");
+  double f[3] = {0.0, 0.0, 0.0};
+  const char* names[3] = {"from", "to", "step"};
+  for (int i = 0; i < 3; ++i) {
+    const toml::node* n = range.get(names[i]);
+    if (n == nullptr) fail(key, std::string("missing \"") + names[i] + "\" in {from, to, step}");
+    if (auto x = n->value_exact<std::int64_t>()) f[i] = static_cast<double>(*x);
+    else if (auto d = n->value_exact<double>()) f[i] = *d;
+    else fail(key, std::string(names[i]) + ": expected a number, got " + type_name(*n));
+  }
+  std::vector<double> out;
+  try {
+    out = grid_values(f[0], f[1], f[2]);
+  } catch (const std::invalid_argument& e) {
+    fail(key, std::string("{from, to, step}: ") + e.what());
+  }
+  if (out.size() < min_len || out.size() > max_len)
+    fail(key, "{from, to, step} gives " + std::to_string(out.size()) + " values; allowed " + std::to_string(min_len) +
+                  " to " + std::to_string(max_len));
+  for (const double v : out)
+    if (v < lo || v > hi)
+      fail(key, "{from, to, step} gives " + format_number(v) + ", out of range; allowed " + range_text(lo, hi));
   return out;
 }
 

@@ -74,6 +74,10 @@ class TableReader {
   // Arrays of numbers / integers, every element in [lo, hi], length in [min_len, max_len].
   std::vector<double> numbers(std::string_view key, std::vector<double> def, double lo, double hi,
                               std::size_t min_len, std::size_t max_len);
+  // An array as numbers() reads it, or a table {from, to, step} giving grid_values(from, to, step)
+  // (base/grid_values.hpp); the same checks of each value and of the length.
+  std::vector<double> grid(std::string_view key, std::vector<double> def, double lo, double hi, std::size_t min_len,
+                           std::size_t max_len);
   std::vector<std::int64_t> integers(std::string_view key, std::vector<std::int64_t> def,
                                      std::int64_t lo, std::int64_t hi, std::size_t min_len,
                                      std::size_t max_len);

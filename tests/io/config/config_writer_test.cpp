@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -12,6 +13,9 @@
 #include "io/config/fem_config.hpp"
 #include "io/config/gym_config.hpp"
 #include "io/config/toml_reader.hpp"
+#include "base/config_check.hpp"
+#include "io/config/key_reference.hpp"
+#include "io/config/table_keys.hpp"
 
 using namespace codesign;
 
@@ -322,3 +326,42 @@ TEST(ConfigWriter, PpoPrecisionIsTheResolvedOne) {
   EXPECT_NE(text.find("matmul_precision = \"" + expected + "\"\n"), std::string::npos) << text;
   EXPECT_EQ(read_ppo(text, {}).matmul_precision, a.matmul_precision);
 }
+
+namespace codesign {
+namespace {
+
+// A table with one grid key, through every visitor of the key descriptions: the reader expands a
+// {from, to, step}, the writer states the array it gave, which reads back the same; the check and
+// the reference page see the key.
+struct GridHolder {
+  std::vector<double> walls{2.0, 2.5};
+};
+template <class V>
+void describe_grid_holder(V& v, GridHolder& h) {
+  v.grid({"wall_mm", "mm", "wall thicknesses"}, h.walls, {0.5, 10.0}, {1, 50});
+}
+
+TEST(GridKey, ReadsARangeWritesItsArrayAndReadsThatBack) {
+  GridHolder h;
+  io::TableReader root = io::TableReader::from_string("[space]\nwall_mm = {from = 1.5, to = 3.0, step = 0.5}\n", "s.toml");
+  io::read_keys(root, "space", [&](auto& v) { describe_grid_holder(v, h); });
+  EXPECT_EQ(h.walls, (std::vector<double>{1.5, 2.0, 2.5, 3.0}));
+  std::ostringstream out;
+  io::write_keys(out, "space", [&](auto& v) { describe_grid_holder(v, h); });
+  EXPECT_NE(out.str().find("wall_mm = [1.5, 2.0, 2.5, 3.0]"), std::string::npos) << out.str();
+  GridHolder back;
+  io::TableReader again = io::TableReader::from_string(out.str(), "written.toml");
+  io::read_keys(again, "space", [&](auto& v) { describe_grid_holder(v, back); });
+  EXPECT_EQ(back.walls, h.walls);
+
+  h.walls.push_back(20.0);
+  const std::optional<std::string> p = config::first_problem([&](auto& v) { describe_grid_holder(v, h); });
+  ASSERT_TRUE(p.has_value());
+  EXPECT_NE(p->find("wall_mm"), std::string::npos) << *p;
+  const std::vector<io::KeyRow> rows = io::key_rows([&](auto& v) { describe_grid_holder(v, h); });
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].type, "array of floats or {from, to, step}");
+}
+
+}  // namespace
+}  // namespace codesign

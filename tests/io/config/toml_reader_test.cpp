@@ -97,6 +97,31 @@ TEST(TomlReader, ArrayLengthAndElementsAreChecked) {
   EXPECT_EQ(el, "run.toml: p: element 1 = 25 is out of range; allowed [0, 20]");
 }
 
+TEST(TomlReader, AGridIsAnArrayOrAFromToStepRange) {
+  TableReader a = TableReader::from_string("w = [2, 2.5]\nl = {from = 20, to = 50, step = 2}\nt = {from = 0.1, to = 0.3, step = 0.1}\n", "run.toml");
+  EXPECT_EQ(a.grid("w", {}, 0.1, 10.0, 1, 100), (std::vector<double>{2.0, 2.5}));
+  const std::vector<double> l = a.grid("l", {}, 1.0, 100.0, 1, 100);
+  ASSERT_EQ(l.size(), 16u);  // 20, 22, …, 50: the end is included
+  EXPECT_EQ(l.front(), 20.0);
+  EXPECT_EQ(l.back(), 50.0);
+  // 0.3 lies on the grid though (0.3 − 0.1)/0.1 rounds below 2; each value is from + k·step.
+  EXPECT_EQ(a.grid("t", {}, 0.0, 1.0, 1, 100), (std::vector<double>{0.1, 0.1 + 0.1, 0.1 + 2 * 0.1}));
+  EXPECT_EQ(a.grid("absent", {4.0}, 0.0, 10.0, 1, 2), (std::vector<double>{4.0}));
+  a.finish();  // every key read
+
+  const auto grid_error = [](const std::string& text) {
+    return error_of(text, [](TableReader& r) { r.grid("l", {}, 1.0, 100.0, 1, 20); });
+  };
+  EXPECT_EQ(grid_error("l = {from = 20, to = 50}\n"), "run.toml: l: missing \"step\" in {from, to, step}");
+  EXPECT_EQ(grid_error("l = {from = 20, to = 50, step = 2, by = 1}\n"), "run.toml: l: unknown key \"by\" in {from, to, step}");
+  EXPECT_EQ(grid_error("l = {from = 20, to = 50, step = 0}\n"), "run.toml: l: {from, to, step}: step must be > 0");
+  EXPECT_EQ(grid_error("l = {from = 50, to = 20, step = 2}\n"), "run.toml: l: {from, to, step}: from must not exceed to");
+  EXPECT_EQ(grid_error("l = {from = 20, to = \"50\", step = 2}\n"), "run.toml: l: to: expected a number, got a string");
+  EXPECT_EQ(grid_error("l = {from = 2, to = 60, step = 2}\n"), "run.toml: l: {from, to, step} gives 30 values; allowed 1 to 20");
+  EXPECT_EQ(grid_error("l = {from = 90, to = 110, step = 5}\n"), "run.toml: l: {from, to, step} gives 105, out of range; allowed [1, 100]");
+  EXPECT_EQ(grid_error("l = [1, 200]\n"), "run.toml: l: element 1 = 200 is out of range; allowed [1, 100]");
+}
+
 TEST(TomlReader, RequiredKeyMissing) {
   const std::string msg = error_of("", [](TableReader& r) { r.required_number("dt", 1e-5, 1.0); });
   EXPECT_EQ(msg, "run.toml: dt: missing; a number in [1e-05, 1] is required");
