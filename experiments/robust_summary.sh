@@ -34,7 +34,7 @@ for arm in $arms; do
       vals="$vals ${v:-nan}"
     done
     echo "$vals" | awk '{ n = 0; miss = 0; for (i = 1; i <= NF; ++i) { if ($i == "nan") { miss = 1; continue } x[++n] = $i }
-      if (n == 0) { printf " | %-17s", "—"; exit }
+      if (n == 0) { printf " | —%-16s", ""; exit }
       m = 0; for (i = 1; i <= n; ++i) m += x[i]; m /= n
       v = 0; for (i = 1; i <= n; ++i) v += (x[i] - m) ^ 2; sd = n > 1 ? sqrt(v / (n - 1)) : 0
       lo = x[1]; for (i = 2; i <= n; ++i) if (x[i] < lo) lo = x[i]
