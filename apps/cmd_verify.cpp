@@ -1,5 +1,5 @@
 // `codesign verify --run DIR [--phases N] [--phase-set test|validation] [--next K] [--no-baselines]
-//   [--with RUN2 RUN3] [--specialists [--specialist-timesteps N] [--specialist-seeds S...]] [--plots DIR]
+//   [--with RUN2 RUN3] [--conditions NAME...] [--specialists [--specialist-timesteps N] [--specialist-seeds S...]] [--plots DIR]
 //   [--force] [--threads N]`
 //
 // The final policy of a finished co-design run on d* and its neighbours, and two PIDs on d*, under
@@ -44,6 +44,9 @@ void add_verify_command(CLI::App& root, Runner& run) {
                 "skip the two PIDs on d* (the force oracle and the estimator PI)");
   cmd->add_option("--with", opt->job.verify.with, "other finished runs (other seeds) whose d* this run's policy is tested on")
       ->expected(1, 16);
+  cmd->add_option("--conditions", opt->job.verify.conditions,
+                  "run only these conditions of the suite (default: all), e.g. nominal modulus_-20% modulus_+20%")
+      ->expected(1, 32);
   cmd->add_option("--plots", opt->job.verify.plots_dir, "folder of verify.gp (default: " CODESIGN_PLOTS_DIR ")");
   cmd->add_flag("--specialists", opt->job.specialists,
                 "first train a fresh policy on each tested design of the run alone (RUN/verify/specialists/)");

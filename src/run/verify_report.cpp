@@ -69,17 +69,23 @@ std::string verify_report(const VerifyReportInput& in) {
   const std::vector<Verdict> vs = verdicts(in.rows, names);
   int designs = 0;
   for (const VerifySubject& s : in.subjects) designs += s.controller == kControllerPolicy ? 1 : 0;
-  const VerifyRow* nominal = find_row(in.rows, "d*", names.empty() ? "" : names.front());
-  if (nominal) {
-    const VerifyRow* worst = nominal;
-    for (const VerifyRow& r : in.rows)
-      if (r.subject == "d*" && r.mean_return < worst->mean_return) worst = &r;
+  // The nominal cell when the conditions run include it (`verify --conditions` may leave it out).
+  const VerifyRow* nominal = find_row(in.rows, "d*", "nominal");
+  const VerifyRow* worst = nullptr;
+  for (const VerifyRow& r : in.rows)
+    if (r.subject == "d*" && (!worst || r.mean_return < worst->mean_return)) worst = &r;
+  if (worst) {
     int within = 0;
     for (const Verdict& v : vs) within += v.within ? 1 : 0;
     char line[512];
-    std::snprintf(line, sizeof line, "The final policy on d* = %s tracks to %.1f of 50 on the nominal model and to %.1f at worst (%s)",
-                  fem::design_label(nominal->at.design).c_str(), nominal->mean_return, worst->mean_return,
-                  worst->condition.c_str());
+    if (nominal)
+      std::snprintf(line, sizeof line,
+                    "The final policy on d* = %s tracks to %.1f of 50 on the nominal model and to %.1f at worst (%s)",
+                    fem::design_label(nominal->at.design).c_str(), nominal->mean_return, worst->mean_return,
+                    worst->condition.c_str());
+    else
+      std::snprintf(line, sizeof line, "The final policy on d* = %s tracks to %.1f of 50 at worst (%s) over the conditions run",
+                    fem::design_label(worst->at.design).c_str(), worst->mean_return, worst->condition.c_str());
     o << line;
     if (const VerifyRow* oracle = find_row(in.rows, kControllerPidForce, worst->condition))
       o << ", where a PID on the true force gets " << interval(*oracle).substr(0, interval(*oracle).find(' '));

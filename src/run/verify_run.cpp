@@ -214,6 +214,7 @@ std::vector<VerifySubject> verify_plan(const VerifyOptions& options) {
   for (const char* f : {run_file::kConfig, run_file::kResult, run_file::kPolicy})
     if (!fs::exists(dir / f, ec))
       throw InputError((dir / f).string() + ": not found; verify needs a finished co-design run folder");
+  (void)chosen_conditions(options.conditions);  // a bad name before anything is read or written
   if (options.phase_set != "test" && options.phase_set != "validation")
     throw InputError("--phase-set: \"" + options.phase_set + "\" is not one of test, validation");
   for (const std::string& w : options.with)
@@ -232,6 +233,20 @@ std::vector<VerifySubject> verify_plan(const VerifyOptions& options) {
     at = subjects.insert(at, std::move(s)) + 1;
   }
   return subjects;
+}
+
+std::vector<VerifyCondition> chosen_conditions(const std::vector<std::string>& names) {
+  const std::vector<VerifyCondition> suite = verify_suite();
+  if (names.empty()) return suite;
+  std::string allowed;
+  for (const VerifyCondition& c : suite) allowed += (allowed.empty() ? "" : ", ") + c.name;
+  for (const std::string& n : names)
+    if (std::none_of(suite.begin(), suite.end(), [&](const VerifyCondition& c) { return c.name == n; }))
+      throw InputError("--conditions: \"" + n + "\" is not a condition of the suite; allowed: " + allowed);
+  std::vector<VerifyCondition> out;
+  for (const VerifyCondition& c : suite)
+    if (std::find(names.begin(), names.end(), c.name) != names.end()) out.push_back(c);
+  return out;
 }
 
 VerifySummary verify_run(const VerifyOptions& options) {
@@ -299,7 +314,7 @@ VerifySummary verify_run(const VerifyOptions& options) {
     return pids[s.controller] = core::pid_factory(t.pid, task);
   };
 
-  const std::vector<VerifyCondition> suite = verify_suite();
+  const std::vector<VerifyCondition> suite = chosen_conditions(options.conditions);
   for (const VerifySubject& s : summary.subjects) {
     core::ControllerFactory controller;
     for (const VerifyCondition& c : suite) {

@@ -28,6 +28,7 @@ struct VerifyOptions {
   int next = 2;             // designs of the run's order after d* and the runner-up
   bool baselines = true;    // the two PIDs on d*
   std::vector<std::string> with;   // other run folders whose d* this run's policy is tested on
+  std::vector<std::string> conditions;  // names of the suite's conditions to run (empty: all)
   std::size_t threads = 0;  // 0: all cores
   bool force = false;       // replace a verify of the run made with other settings
   bool progress = true;
@@ -67,6 +68,10 @@ struct VerifySummary {
 // What a verify of the run tests, in report order (without running anything). Throws as
 // verify_run.
 std::vector<VerifySubject> verify_plan(const VerifyOptions& options);
+
+// The conditions of the suite named (all for an empty list), in suite order; InputError naming
+// --conditions and the allowed names for a name not in the suite.
+std::vector<VerifyCondition> chosen_conditions(const std::vector<std::string>& names);
 
 // Throws InputError naming the file or flag: no run folder, config.toml, result.toml or
 // policy.bin; a `with` folder without result.toml; a phase set other than test/validation; a

@@ -111,6 +111,20 @@ TEST(VerifyCommand, NominalReproducesTheRunsTestAndTheSuiteResumes) {
   EXPECT_TRUE(fs::exists(run / "verify" / "specialists" / ("j" + best + "_s1") / "result.toml"));
   EXPECT_NE(slurp(run / "verify" / "report.md").find("; own_j" + best + "_s1 "), std::string::npos);
 
+  // A subset of the suite: the cells it names, kept from before; an unknown name is refused before
+  // anything is written.
+  r = run_codesign("verify --run " + run.string() + " --phases 2 --no-baselines --next 0 --conditions modulus_+20% nominal");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("verify: 0 cells run now, 8 before"), std::string::npos) << r.output;
+  const std::string subset = slurp(run / "verify" / "report.md");
+  EXPECT_NE(subset.find("\n- modulus_+20%: d* (j"), std::string::npos) << subset;
+  EXPECT_EQ(subset.find("\n- plate_x0.5:"), std::string::npos) << subset;
+  r = run_codesign("verify --run " + run.string() + " --phases 2 --conditions modulus_+30%");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--conditions: \"modulus_+30%\" is not a condition of the suite; allowed: nominal, "),
+            std::string::npos)
+      << r.output;
+
   // Other settings on the same folder: refused without --force, nothing changed.
   r = run_codesign("verify --run " + run.string() + " --phases 3");
   EXPECT_EQ(r.status, 2) << r.output;
