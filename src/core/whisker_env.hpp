@@ -150,8 +150,9 @@ class WhiskerEnv final : public rl::Env {
   // Shifts the history by one decision: `seen` was observed before the action `a` was applied.
   void push_history(const Eigen::VectorXd& seen, double a);
   void record(double action);
-  // Computes ε₀ for the current setup if strain_offset = Inflated and it is not known yet
-  // (leaves the simulator in a state that needs reset()).
+  // Computes ε₀ for the current setup if strain_offset = Inflated, and the inflation reading if
+  // stiffness_cue = "inflation", when they are not known yet (leaves the simulator in a state
+  // that needs reset()).
   fem::StepResult update_strain_zero();
   // Settles the body free of the plate at the given pressures (through the draw's pressure
   // errors) and reads the true strain; leaves the simulator in a state that needs reset().

@@ -31,10 +31,12 @@ double to_pm1(double v, double lo, double hi) { return hi > lo ? 2.0 * (v - lo) 
 }  // namespace
 
 DesignSpace DesignSpace::paper() {
+  // The axes as design.hpp's index lays them out (w innermost, then l, then n): one definition.
   DesignAxes a;
-  a.chambers = {1, 2};
-  for (int k = 0; k < kChamberLengthCount; ++k) a.lengths_mm.push_back(20.0 + 2.0 * k);
-  for (int k = 0; k < kWallCount; ++k) a.walls_mm.push_back(2.0 + 0.5 * k);
+  for (int n = 0; n < kDesignCount / (kChamberLengthCount * kWallCount); ++n)
+    a.chambers.push_back(design_from_index(n * kChamberLengthCount * kWallCount).n);
+  for (int k = 0; k < kChamberLengthCount; ++k) a.lengths_mm.push_back(design_from_index(k * kWallCount).chamber_length_mm);
+  for (int k = 0; k < kWallCount; ++k) a.walls_mm.push_back(design_from_index(k).wall_mm);
   return DesignSpace(std::move(a));
 }
 

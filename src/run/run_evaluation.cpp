@@ -107,9 +107,7 @@ std::string checkpoint_file_of(const std::string& at) {
 
 std::string evaluation_folder_name(const RunEvaluationOptions& options) {
   if (options.pressures_of.empty()) return options.at;
-  fs::path other = fs::path(options.pressures_of).lexically_normal();
-  if (other.filename().empty()) other = other.parent_path();  // "runs/b/" names b
-  return options.at + "_pressures_of_" + other.filename().string();
+  return options.at + "_pressures_of_" + run_folder_name(options.pressures_of);
 }
 
 namespace {

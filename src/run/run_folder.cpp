@@ -172,4 +172,10 @@ std::optional<EvaluationTrace> read_evaluation_trace(const fs::path& run_dir, co
   return out;
 }
 
+std::string run_folder_name(const std::string& dir) {
+  std::filesystem::path p = std::filesystem::path(dir).lexically_normal();
+  if (p.filename().empty()) p = p.parent_path();
+  return p.filename().string();
+}
+
 }  // namespace codesign::run

@@ -75,6 +75,10 @@ struct ResultFile {
 // Writes DIR/result.toml atomically.
 void write_result(const std::filesystem::path& run_dir, const ResultFile& r);
 
+// The name of a run folder as given: its last path component, "runs/b/" and "runs/b" alike
+// naming "b".
+std::string run_folder_name(const std::string& dir);
+
 // Table `which` ("best" or "runner_up") of DIR/result.toml; nullopt when the file has no such
 // table. A missing or unreadable file, or a key out of range, is an InputError naming the file
 // and the key. Pressures must lie in [0, pressure_max_kPa] (refine passes the run's

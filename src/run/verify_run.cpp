@@ -38,9 +38,13 @@ namespace fs = std::filesystem;
 constexpr const char* kColumns =
     "subject,controller,design,p1_kPa,p2_kPa,condition,mean_return,std_return,ci95,band_fraction,episodes";
 
-// The strain noise of the suite: 2 % of the tared strain's reference range per decision (the
-// range the observation scales to [−1, 1]), a gauge of a few microstrain.
-constexpr double kStrainNoise = 0.02 * (8.997e-05 + 9.826e-04);
+// The strain noise of the suite: 2 % of the tared strain's default reference range per decision
+// (the range the observation scales to [−1, 1]), a gauge of a few microstrain; the default, not
+// the run's, so that the suite is the same for every run.
+double suite_strain_noise() {
+  const core::TaskConfig task;
+  return 0.02 * (task.zeroed_strain_max - task.zeroed_strain_min);
+}
 
 // Plate phase offsets: the test phases every reported result uses, and the validation phases
 // experiments choose settings on (neither is a tuning phase, core::kTuningPhaseOffset).
@@ -101,12 +105,6 @@ std::vector<DesignAtPressures> run_order(const RunSettings& settings, const fs::
   return out;
 }
 
-std::string run_name(const std::string& dir) {
-  fs::path p = fs::path(dir).lexically_normal();
-  if (p.filename().empty()) p = p.parent_path();
-  return p.filename().string();
-}
-
 // verify.dat (a block per subject: condition index, mean, 95 % half-width) and verify.png.
 std::string draw_figure(const fs::path& folder, const std::string& plots_dir, const VerifySummary& s,
                         const std::vector<VerifyCondition>& suite, const std::string& run) {
@@ -124,8 +122,7 @@ std::string draw_figure(const fs::path& folder, const std::string& plots_dir, co
   const fs::path script = fs::path(plots_dir) / "verify.gp";
   if (!fs::exists(script)) return script.string() + " not found";
   std::string subjects, conditions;
-  for (const VerifySubject& sub : s.subjects)
-  {
+  for (const VerifySubject& sub : s.subjects) {
     if (!subjects.empty()) subjects += ' ';
     subjects += sub.name;
     if (sub.controller == kControllerPolicy) subjects += "(j" + std::to_string(sub.at.design) + ")";
@@ -159,7 +156,7 @@ SubjectSources subject_sources(const RunSettings& settings, const fs::path& dir,
   sources.baselines = options.baselines;
   if (!sources.single_design && options.next > 0) sources.ranked = run_order(settings, dir, sources.ranked_from);
   for (const std::string& w : options.with)
-    if (const auto o = read_result_design(w, "best", pmax)) sources.others.emplace_back(run_name(w), at_of(*o));
+    if (const auto o = read_result_design(w, "best", pmax)) sources.others.emplace_back(run_folder_name(w), at_of(*o));
   return sources;
 }
 
@@ -202,13 +199,31 @@ std::vector<VerifyCondition> verify_suite() {
   add("gain_+10%", "strain gauge gain × 1.1", [](VerifyCondition& c) { c.physics.strain_gain = 1.1; });
   add("strain_noise", "strain noise, standard deviation 2 % of the tared strain's range per decision",
       [](VerifyCondition& c) {
-        c.physics.strain_noise = kStrainNoise;
+        c.physics.strain_noise = suite_strain_noise();
         c.physics.noise_seed = 0x5645524946590001ULL;  // fixed: the suite is the same for every run
       });
   return s;
 }
 
-std::vector<VerifySubject> verify_plan(const VerifyOptions& options) {
+namespace {
+
+// verify_plan for the run's settings, read once by the caller.
+std::vector<VerifySubject> plan(const RunSettings& settings, const VerifyOptions& options) {
+  std::vector<VerifySubject> subjects = verify_subjects(subject_sources(settings, options.dir, options));
+  // The specialists after the run's policy subjects, before the PIDs.
+  auto at = std::find_if(subjects.begin(), subjects.end(),
+                         [](const VerifySubject& s) { return s.controller != kControllerPolicy; });
+  for (const VerifyOptions::Specialist& sp : options.specialists) {
+    VerifySubject s{sp.name, kControllerSpecialist, sp.at,
+                    "a fresh policy trained on this design alone at these pressures, seed " + std::to_string(sp.seed),
+                    sp.policy_file};
+    at = subjects.insert(at, std::move(s)) + 1;
+  }
+  return subjects;
+}
+
+// The checks of the options and the run folder that come before anything is read.
+void check_options(const VerifyOptions& options) {
   const fs::path dir(options.dir);
   std::error_code ec;
   for (const char* f : {run_file::kConfig, run_file::kResult, run_file::kPolicy})
@@ -221,18 +236,13 @@ std::vector<VerifySubject> verify_plan(const VerifyOptions& options) {
     if (!fs::exists(fs::path(w) / run_file::kResult, ec))
       throw InputError("--with: " + (fs::path(w) / run_file::kResult).string() +
                        ": not found; each --with folder must be a finished co-design run");
-  const RunSettings settings = run_settings(read_run_config((dir / run_file::kConfig).string()));
-  std::vector<VerifySubject> subjects = verify_subjects(subject_sources(settings, dir, options));
-  // The specialists after the run's policy subjects, before the PIDs.
-  auto at = std::find_if(subjects.begin(), subjects.end(),
-                         [](const VerifySubject& s) { return s.controller != kControllerPolicy; });
-  for (const VerifyOptions::Specialist& sp : options.specialists) {
-    VerifySubject s{sp.name, kControllerSpecialist, sp.at,
-                    "a fresh policy trained on this design alone at these pressures, seed " + std::to_string(sp.seed),
-                    sp.policy_file};
-    at = subjects.insert(at, std::move(s)) + 1;
-  }
-  return subjects;
+}
+
+}  // namespace
+
+std::vector<VerifySubject> verify_plan(const VerifyOptions& options) {
+  check_options(options);
+  return plan(run_settings(read_run_config((fs::path(options.dir) / run_file::kConfig).string())), options);
 }
 
 std::vector<VerifyCondition> chosen_conditions(const std::vector<std::string>& names) {
@@ -252,12 +262,13 @@ std::vector<VerifyCondition> chosen_conditions(const std::vector<std::string>& n
 VerifySummary verify_run(const VerifyOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();
   const double cpu_start = process_cpu_seconds();
-  VerifySummary summary;
-  summary.subjects = verify_plan(options);
+  check_options(options);
   const fs::path dir(options.dir);
   std::error_code ec;
   const RunConfig config = read_run_config((dir / run_file::kConfig).string());
   const RunSettings settings = run_settings(config);
+  VerifySummary summary;
+  summary.subjects = plan(settings, options);
   const core::TaskConfig& task = settings.loop.task;
   const auto policy = std::make_shared<const rl::Policy>(rl::load_policy(dir / run_file::kPolicy));
 
@@ -353,7 +364,7 @@ VerifySummary verify_run(const VerifyOptions& options) {
   if (settings.loop.codesign.baseline == core::Baseline::SingleDesign)
     in.notes = "The run trained d* alone (codesign.baseline = \"single_design\"): its policy is tested on no other design.";
   io::write_file_atomically((folder / "report.md").string(), [&](std::ostream& out) { out << verify_report(in); });
-  summary.figure_message = draw_figure(folder, options.plots_dir, summary, suite, run_name(options.dir));
+  summary.figure_message = draw_figure(folder, options.plots_dir, summary, suite, run_folder_name(options.dir));
   summary.wall_s = seconds_since(t_start);
   summary.cpu_s = process_cpu_seconds() - cpu_start;
   return summary;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "fem/design.hpp"
+#include "fem/design_space.hpp"
 
 namespace codesign::run {
 
@@ -29,19 +30,15 @@ int farthest(int best, const std::vector<int>& group, const std::vector<double>&
   return pick;
 }
 
-std::vector<double> grid(double first, double step, int count) {
-  std::vector<double> v;
-  for (int k = 0; k < count; ++k) v.push_back(first + step * k);
-  return v;
-}
-
 }  // namespace
 
 std::pair<int, int> outside_designs(int best, const std::vector<int>& group) {
-  const int wall = farthest(best, group, grid(2.0, 0.5, fem::kWallCount), &fem::Design::wall_mm);
+  const fem::DesignSpace paper = fem::DesignSpace::paper();
+  const fem::DesignAxes& axes = paper.axes();
+  const int wall = farthest(best, group, axes.walls_mm, &fem::Design::wall_mm);
   std::vector<int> taken = group;
   if (wall >= 0) taken.push_back(wall);
-  return {wall, farthest(best, taken, grid(20.0, 2.0, fem::kChamberLengthCount), &fem::Design::chamber_length_mm)};
+  return {wall, farthest(best, taken, axes.lengths_mm, &fem::Design::chamber_length_mm)};
 }
 
 std::vector<VerifySubject> verify_subjects(const SubjectSources& s) {
