@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include <toml++/toml.h>
@@ -20,6 +21,13 @@ struct TableReader::State {
 };
 
 namespace {
+
+// A TOML integer or float as a double; nullopt for any other type.
+std::optional<double> number_of(const toml::node& n) {
+  if (auto i = n.value_exact<std::int64_t>()) return static_cast<double>(*i);
+  if (auto d = n.value_exact<double>()) return *d;
+  return std::nullopt;
+}
 
 std::string format_number(double v) {
   std::ostringstream os;
@@ -187,14 +195,9 @@ bool TableReader::has(std::string_view key) const {
 double TableReader::number(std::string_view key, double def, double lo, double hi) {
   const auto* node = static_cast<const toml::node*>(lookup(key));
   if (node == nullptr) return def;
-  double v = 0.0;
-  if (auto i = node->value_exact<std::int64_t>()) {
-    v = static_cast<double>(*i);
-  } else if (auto d = node->value_exact<double>()) {
-    v = *d;
-  } else {
-    fail(key, "expected a number in " + range_text(lo, hi) + ", got " + type_name(*node));
-  }
+  const std::optional<double> n = number_of(*node);
+  if (!n) fail(key, "expected a number in " + range_text(lo, hi) + ", got " + type_name(*node));
+  const double v = *n;
   if (!std::isfinite(v) || v < lo || v > hi) {
     fail(key, "value " + format_number(v) + " is out of range; allowed " + range_text(lo, hi));
   }
@@ -253,14 +256,9 @@ std::vector<double> TableReader::numbers(std::string_view key, std::vector<doubl
   std::vector<double> out;
   for (std::size_t i = 0; i < arr->size(); ++i) {
     const toml::node& el = *arr->get(i);
-    double v = 0.0;
-    if (auto n = el.value_exact<std::int64_t>()) {
-      v = static_cast<double>(*n);
-    } else if (auto d = el.value_exact<double>()) {
-      v = *d;
-    } else {
-      fail(key, "element " + std::to_string(i) + ": expected a number, got " + type_name(el));
-    }
+    const std::optional<double> n = number_of(el);
+    if (!n) fail(key, "element " + std::to_string(i) + ": expected a number, got " + type_name(el));
+    const double v = *n;
     if (!std::isfinite(v) || v < lo || v > hi) {
       fail(key, "element " + std::to_string(i) + " = " + format_number(v) +
                     " is out of range; allowed " + range_text(lo, hi));
@@ -284,9 +282,9 @@ std::vector<double> TableReader::grid(std::string_view key, std::vector<double> 
   for (int i = 0; i < 3; ++i) {
     const toml::node* n = range.get(names[i]);
     if (n == nullptr) fail(key, std::string("missing \"") + names[i] + "\" in {from, to, step}");
-    if (auto x = n->value_exact<std::int64_t>()) f[i] = static_cast<double>(*x);
-    else if (auto d = n->value_exact<double>()) f[i] = *d;
-    else fail(key, std::string(names[i]) + ": expected a number, got " + type_name(*n));
+    const std::optional<double> x = number_of(*n);
+    if (!x) fail(key, std::string(names[i]) + ": expected a number, got " + type_name(*n));
+    f[i] = *x;
   }
   std::vector<double> out;
   try {
